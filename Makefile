@@ -1,0 +1,30 @@
+# navlab: `make repro` sets up and regenerates every report (default profile); `make test` runs the tests.
+PY      ?= python3.11
+VENV    := .venv
+BIN     := $(VENV)/bin
+STAMP   := $(VENV)/.installed
+
+.PHONY: setup data repro test lab clean-venv
+
+setup: $(STAMP)
+
+$(STAMP): environment.txt pyproject.toml
+	test -x $(BIN)/python || $(PY) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --disable-pip-version-check -r environment.txt
+	$(BIN)/python -m pip install -q --disable-pip-version-check --no-deps -e .
+	touch $(STAMP)
+
+data: setup
+	$(BIN)/python -m navlab data build
+
+repro: data
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/dvc repro
+
+test: setup
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest
+
+lab: setup
+	$(BIN)/jupyter lab notebooks/
+
+clean-venv:
+	rm -rf $(VENV)

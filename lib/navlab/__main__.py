@@ -1,0 +1,3 @@
+from navlab.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,181 @@
+"""``python -m navlab``: build and verify the dataset, run notebooks with a profile, index the reports.
+
+Every subcommand has ``--help``. Errors in parameters or data stop with one line and exit code 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+from navlab.core.io import DataError
+from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
+
+
+def data_steps():
+    """The steps of ``data build``, in order; each writes under its own folder of data/."""
+    from navlab.core.sources import build_raw
+
+    return [("raw", build_raw)]
+
+
+def artifact_steps():
+    """The artefact builders (DVC stage outputs under artifacts/), by name, in dependency order.
+
+    Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
+    (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
+    """
+    return []
+
+
+def _artifacts_build(args) -> int:
+    params = load_params(args.profile)
+    steps = artifact_steps()
+    names = [n for n, _ in steps]
+    unknown = sorted(set(args.only or []) - set(names))
+    if unknown:
+        raise ParamsError(f"--only {unknown[0]}: no such artefact step; steps are {', '.join(names) or 'none'}")
+    for name, step in steps:
+        if args.only and name not in args.only:
+            continue
+        print(f"[artifacts] {name} ({params.profile})")
+        step(params, Path(args.data_dir), Path(args.artifacts_dir))
+    return 0
+
+
+def _data_build(args) -> int:
+    from navlab.core import dataset
+
+    root = repo_root()
+    params = load_params(args.profile)
+    data_dir = Path(args.data_dir)
+    dvc_file = root / "data.dvc"
+    checked = args.data_dir == "data" and params.profile == dataset.RECORDED_PROFILE
+    if checked and not (args.force or args.record):
+        ok, msg = dataset.verify(data_dir, dvc_file)
+        if ok:
+            print(f"{msg}; nothing to do")
+            return 0
+    dataset.build(data_dir, params, data_steps())
+    if args.record:
+        if params.profile != dataset.RECORDED_PROFILE:
+            raise DataError(f"data.dvc records the {dataset.RECORDED_PROFILE!r} profile; "
+                            f"rerun with --profile {dataset.RECORDED_PROFILE}")
+        subprocess.run(["dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
+        print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
+        return 0
+    if not checked:
+        print(f"built {data_dir}/ with profile {params.profile!r} (data.dvc records only "
+              f"{dataset.RECORDED_PROFILE!r} builds of data/; not checked)")
+        return 0
+    ok, msg = dataset.verify(data_dir, dvc_file)
+    print(msg)
+    if ok:
+        subprocess.run(["dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
+    return 0 if ok else 1
+
+
+def _data_verify(args) -> int:
+    from navlab.core import dataset
+
+    ok, msg = dataset.verify(args.data_dir, repo_root() / "data.dvc")
+    print(msg)
+    return 0 if ok else 1
+
+
+def _notebook_run(args) -> int:
+    from navlab.core.notebooks import run_notebook
+
+    run_notebook(
+        args.notebook,
+        profile=load_params(args.profile).profile,
+        output=args.output,
+        data_dir=args.data_dir,
+        artifacts_dir=args.artifacts_dir,
+        reports_dir=args.reports_dir,
+    )
+    return 0
+
+
+def _reports_index(args) -> int:
+    from navlab.core.reports import write_index
+
+    print(f"wrote {write_index(args.reports_dir)}")
+    return 0
+
+
+def _params_show(args) -> int:
+    import dataclasses
+    import json
+
+    print(json.dumps(dataclasses.asdict(load_params(args.profile)), indent=2, default=str))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
+    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,reports,params}")
+
+    def profile_arg(p):
+        p.add_argument("--profile", choices=PROFILES, default=None,
+                       help="parameter profile (default: the `profile` key of params.yaml)")
+
+    data = groups.add_parser("data", help="build or verify the dataset snapshot in data/")
+    data_cmds = data.add_subparsers(dest="cmd", required=True)
+    b = data_cmds.add_parser("build", help="build data/ from packages and seeded generators (resumable)")
+    profile_arg(b)
+    b.add_argument("--data-dir", default="data", help="where to build (default: data)")
+    b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches data.dvc")
+    b.add_argument("--record", action="store_true", help="record the new build in data.dvc (dvc add)")
+    b.set_defaults(func=_data_build)
+    v = data_cmds.add_parser("verify", help="check data/ against the digest data.dvc records")
+    v.add_argument("--data-dir", default="data")
+    v.set_defaults(func=_data_verify)
+
+    art = groups.add_parser("artifacts", help="build DVC stage outputs: HJ grids, trained models")
+    art_cmds = art.add_subparsers(dest="cmd", required=True)
+    a = art_cmds.add_parser("build", help="build artefacts (all, or those named with --only)")
+    profile_arg(a)
+    a.add_argument("--only", action="append", metavar="STEP", help="build only this step (repeatable)")
+    a.add_argument("--data-dir", default="data")
+    a.add_argument("--artifacts-dir", default="artifacts")
+    a.set_defaults(func=_artifacts_build)
+
+    nb = groups.add_parser("notebook", help="run notebooks headlessly with papermill")
+    nb_cmds = nb.add_subparsers(dest="cmd", required=True)
+    r = nb_cmds.add_parser("run", help="execute one notebook with a profile")
+    r.add_argument("notebook", help="path of the notebook, e.g. notebooks/00_quickstart.ipynb")
+    profile_arg(r)
+    r.add_argument("--output", default=None, help="executed copy (default: artifacts/notebooks/<same path>)")
+    r.add_argument("--data-dir", default="data")
+    r.add_argument("--artifacts-dir", default="artifacts")
+    r.add_argument("--reports-dir", default="reports")
+    r.set_defaults(func=_notebook_run)
+
+    rep = groups.add_parser("reports", help="report files")
+    rep_cmds = rep.add_subparsers(dest="cmd", required=True)
+    i = rep_cmds.add_parser("index", help="write reports/README.md from every report JSON")
+    i.add_argument("--reports-dir", default="reports")
+    i.set_defaults(func=_reports_index)
+
+    par = groups.add_parser("params", help="show validated parameters")
+    par_cmds = par.add_subparsers(dest="cmd", required=True)
+    s = par_cmds.add_parser("show", help="print the resolved parameters of a profile")
+    profile_arg(s)
+    s.set_defaults(func=_params_show)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (ParamsError, DataError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,96 @@
+"""File I/O that is atomic and byte-deterministic.
+
+Atomic: write to a temporary file beside the target, then rename, so a killed run never leaves a
+half-written file under the real name. Deterministic: archives carry no timestamps, so rebuilding
+data/ on another machine gives the same bytes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+import tempfile
+import zipfile
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+_EPOCH = (1980, 1, 1, 0, 0, 0)
+
+
+class DataError(RuntimeError):
+    """A missing, unreadable or stale input; the message names the file and the command that fixes it."""
+
+
+@contextlib.contextmanager
+def atomic_path(target: str | Path, suffix: str = "") -> Iterator[Path]:
+    """Yield a temporary path beside ``target``; on success it is renamed to ``target``, else removed."""
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=suffix or target.suffix)
+    os.close(fd)
+    tmp = Path(tmp)
+    try:
+        yield tmp
+        os.replace(tmp, target)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_bytes(target: str | Path, data: bytes) -> None:
+    with atomic_path(target) as tmp:
+        tmp.write_bytes(data)
+
+
+def write_text(target: str | Path, text: str) -> None:
+    write_bytes(target, text.encode())
+
+
+def write_json(target: str | Path, obj: Any) -> None:
+    """Pretty, key-sorted JSON with a trailing newline (stable diffs)."""
+    write_text(target, json.dumps(obj, indent=2, sort_keys=True, allow_nan=False) + "\n")
+
+
+def save_npz(target: str | Path, arrays: Mapping[str, np.ndarray], compress: bool = True) -> None:
+    """Like ``np.savez_compressed`` but with fixed zip timestamps, so equal arrays give equal bytes."""
+    buf = io.BytesIO()
+    method = zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED
+    with zipfile.ZipFile(buf, "w", compression=method) as zf:
+        for name in sorted(arrays):
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.ascontiguousarray(arrays[name]), allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=_EPOCH)
+            info.compress_type = method
+            info.external_attr = 0o644 << 16
+            zf.writestr(info, member.getvalue())
+    write_bytes(target, buf.getvalue())
+
+
+def load_npz(path: str | Path, fix: str) -> dict[str, np.ndarray]:
+    """Load every array of an .npz; a missing or corrupt file raises DataError naming ``fix``."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path} is missing; {fix}")
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            return {k: npz[k] for k in npz.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as err:
+        raise DataError(f"{path} is unreadable ({err}); {fix}") from None
+
+
+def sha256_file(path: str | Path, chunk: int = 1 << 20) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while block := fh.read(chunk):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def sha256_json(obj: Any) -> str:
+    """Hash of a JSON-able object in canonical form (for input fingerprints in artefact metadata)."""
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()

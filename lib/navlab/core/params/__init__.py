@@ -1,0 +1,135 @@
+"""params.yaml: the one source of experiment parameters, loaded per profile and validated.
+
+A leaf in params.yaml is either a plain value, used by every profile, or a mapping whose keys are
+profile names (``{smoke: 2, default: 8, paper: 32}``); a profile missing there takes ``default``.
+The typed schema lives beside this module (one dataclass per section); loading resolves the profile,
+then checks every key, type and range against it and stops at the first problem with one line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import types
+import typing
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from navlab.core.params.schema import PROFILES, Params
+
+__all__ = ["PROFILES", "Params", "ParamsError", "load_params", "repo_root", "resolve_profile"]
+
+
+class ParamsError(ValueError):
+    """A params.yaml problem; the message is one line naming the key, the value and what is allowed."""
+
+
+def repo_root() -> Path:
+    """The checkout root: the nearest parent of the working directory (or of this file) with params.yaml."""
+    for start in (Path.cwd(), Path(__file__).resolve()):
+        for folder in (start, *start.parents):
+            if (folder / "params.yaml").is_file():
+                return folder
+    raise ParamsError("params.yaml not found above the working directory; run from inside the navlab checkout")
+
+
+def load_params(profile: str | None = None, path: str | Path | None = None) -> Params:
+    """Read params.yaml, resolve ``profile`` (None: the file's own ``profile`` key) and validate it."""
+    path = Path(path) if path is not None else repo_root() / "params.yaml"
+    try:
+        raw = yaml.safe_load(path.read_text())
+    except FileNotFoundError:
+        raise ParamsError(f"{path}: no such file; params.yaml must sit at the checkout root") from None
+    except yaml.YAMLError as err:
+        raise ParamsError(f"{path}: not valid YAML ({str(err).splitlines()[0]})") from None
+    if not isinstance(raw, dict):
+        raise ParamsError(f"{path}: expected a mapping of sections at the top level")
+    profile = profile if profile is not None else raw.get("profile", "default")
+    if profile not in PROFILES:
+        raise ParamsError(f"profile = {profile!r}: allowed profiles are {', '.join(PROFILES)}")
+    resolved = resolve_profile(raw, profile)
+    resolved["profile"] = profile
+    return _build(Params, resolved, "")
+
+
+def resolve_profile(tree: Any, profile: str) -> Any:
+    """Replace every ``{smoke:…, default:…, paper:…}`` leaf by the value for ``profile``."""
+    if isinstance(tree, dict):
+        if tree and set(tree) <= set(PROFILES):
+            if "default" not in tree:
+                raise ParamsError(f"profile mapping {tree!r} has no 'default' value")
+            return resolve_profile(tree.get(profile, tree["default"]), profile)
+        return {k: resolve_profile(v, profile) for k, v in tree.items()}
+    if isinstance(tree, list):
+        return [resolve_profile(v, profile) for v in tree]
+    return tree
+
+
+@functools.cache
+def _hints(cls: type) -> dict[str, Any]:
+    return typing.get_type_hints(cls)
+
+
+def _build(cls: type, data: Any, where: str) -> Any:
+    if not isinstance(data, dict):
+        raise ParamsError(f"{where or 'params.yaml'} = {data!r}: expected a mapping of {cls.__name__} keys")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    unknown = sorted(set(data) - set(fields))
+    if unknown:
+        key = f"{where}.{unknown[0]}".lstrip(".")
+        raise ParamsError(f"{key}: unknown key; allowed keys here are {', '.join(sorted(fields))}")
+    values = {}
+    for name, field in fields.items():
+        key = f"{where}.{name}".lstrip(".")
+        if name not in data:
+            raise ParamsError(f"{key}: missing; add it to params.yaml")
+        values[name] = _check(_hints(cls)[name], data[name], key, field.metadata)
+    return cls(**values)
+
+
+def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if dataclasses.is_dataclass(hint):
+        return _build(hint, value, key)
+    if origin in (typing.Union, types.UnionType):
+        if value is None and type(None) in args:
+            return None
+        (inner,) = [a for a in args if a is not type(None)]
+        return _check(inner, value, key, meta)
+    if origin is typing.Literal:
+        if value not in args:
+            raise ParamsError(f"{key} = {value!r}: allowed values are {', '.join(map(repr, args))}")
+        return value
+    if origin in (tuple, list):
+        item = args[0] if args else Any
+        if not isinstance(value, list | tuple):
+            raise ParamsError(f"{key} = {value!r}: expected a list")
+        length = meta.get("length")
+        if length is not None and len(value) != length:
+            raise ParamsError(f"{key} = {value!r}: expected a list of {length} items")
+        return tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
+    if origin is dict:
+        if not isinstance(value, dict):
+            raise ParamsError(f"{key} = {value!r}: expected a mapping")
+        return {str(k): _check(args[1], v, f"{key}.{k}", meta) for k, v in value.items()}
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ParamsError(f"{key} = {value!r}: expected a number")
+        value = float(value)
+    elif hint is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ParamsError(f"{key} = {value!r}: expected an integer")
+    elif hint is bool:
+        if not isinstance(value, bool):
+            raise ParamsError(f"{key} = {value!r}: expected true or false")
+    elif hint is str:
+        if not isinstance(value, str):
+            raise ParamsError(f"{key} = {value!r}: expected a string")
+    lo, hi = meta.get("min"), meta.get("max")
+    if (lo is not None and value < lo) or (hi is not None and value > hi):
+        allowed = f"between {lo} and {hi}" if lo is not None and hi is not None else (
+            f">= {lo}" if lo is not None else f"<= {hi}")
+        raise ParamsError(f"{key} = {value!r}: out of range, allowed {allowed}")
+    return value

@@ -1,0 +1,12 @@
+"""params.yaml `data`: how `python -m navlab data build` makes the dataset snapshot."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from navlab.core.params.fields import between
+
+
+@dataclass(frozen=True)
+class DataParams:
+    seed: int = between(0)

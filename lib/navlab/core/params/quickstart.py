@@ -1,0 +1,18 @@
+"""params.yaml `quickstart`: the end-to-end notebook (real OSM map -> grid A* -> report)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from navlab.core.params.fields import between
+
+
+@dataclass(frozen=True)
+class QuickstartParams:
+    city: Literal["helsinki", "kouvola", "monaco"]
+    resolution_m: float = between(0.25, 10.0)
+    queries: int = between(1, 1000)
+    min_distance_m: float = between(1.0)
+    max_distance_m: float = between(1.0)
+    soft_cost: dict[str, float] = between(1.0)  # per soft label: cost multiplier per metre

@@ -1,0 +1,26 @@
+"""The typed schema of params.yaml: the root, assembled from one section module per track."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from navlab.core.params.data import DataParams
+from navlab.core.params.fields import PROFILES, between
+from navlab.core.params.hj import HJParams
+from navlab.core.params.pacer import PacerParams
+from navlab.core.params.quickstart import QuickstartParams
+from navlab.core.params.surenav import SuReNavParams
+
+__all__ = ["PROFILES", "Params"]
+
+
+@dataclass(frozen=True)
+class Params:
+    profile: Literal["smoke", "default", "paper"]
+    seed: int = between(0)
+    data: DataParams
+    quickstart: QuickstartParams
+    surenav: SuReNavParams
+    hj: HJParams
+    pacer: PacerParams

@@ -1,0 +1,37 @@
+"""Every random draw in navlab comes from here, keyed by a seed from params.yaml and a purpose.
+
+Keys make streams independent: adding a new consumer never shifts the numbers another one draws.
+"""
+
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+import torch
+
+
+def _entropy(seed: int, keys: tuple[object, ...]) -> list[int]:
+    words = [int(seed)]
+    for key in keys:
+        digest = hashlib.sha256(repr(key).encode()).digest()
+        words.append(int.from_bytes(digest[:8], "little"))
+    return words
+
+
+def rng(seed: int, *keys: object) -> np.random.Generator:
+    """A numpy Generator for (seed, *keys), e.g. ``rng(params.data.seed, "procedural", map_index)``."""
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(_entropy(seed, keys))))
+
+
+def torch_generator(seed: int, *keys: object, device: str | torch.device = "cpu") -> torch.Generator:
+    """A torch Generator for (seed, *keys) on ``device``."""
+    sub = np.random.SeedSequence(_entropy(seed, keys)).generate_state(1, dtype=np.uint64)[0]
+    gen = torch.Generator(device=device)
+    gen.manual_seed(int(sub) & 0x7FFF_FFFF_FFFF_FFFF)
+    return gen
+
+
+def seed_everything(seed: int) -> None:
+    """Seed torch's global generator for code paths (layer init) that take no generator."""
+    torch.manual_seed(seed)

@@ -1,0 +1,1 @@
+"""navlab.graphs (see DESIGN.md for what this layer holds)."""

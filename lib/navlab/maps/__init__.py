@@ -1,0 +1,1 @@
+"""navlab.maps (see DESIGN.md for what this layer holds)."""

@@ -1,0 +1,1 @@
+"""navlab.metrics (see DESIGN.md for what this layer holds)."""

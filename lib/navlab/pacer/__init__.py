@@ -1,0 +1,1 @@
+"""navlab.pacer (see DESIGN.md for what this layer holds)."""

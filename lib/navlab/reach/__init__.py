@@ -1,0 +1,1 @@
+"""navlab.reach (see DESIGN.md for what this layer holds)."""

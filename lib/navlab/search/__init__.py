@@ -1,0 +1,1 @@
+"""navlab.search (see DESIGN.md for what this layer holds)."""

@@ -1,0 +1,1 @@
+"""navlab.sim (see DESIGN.md for what this layer holds)."""

@@ -1,0 +1,1 @@
+"""navlab.surenav (see DESIGN.md for what this layer holds)."""

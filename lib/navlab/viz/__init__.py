@@ -1,0 +1,1 @@
+"""navlab.viz (see DESIGN.md for what this layer holds)."""

@@ -1,0 +1,60 @@
+import re
+
+import pytest
+import yaml
+
+from navlab.core.params import ParamsError, load_params
+
+
+def _write(tmp_path, mutate):
+    raw = yaml.safe_load(open("params.yaml"))
+    mutate(raw)
+    path = tmp_path / "params.yaml"
+    path.write_text(yaml.safe_dump(raw))
+    return path
+
+
+@pytest.mark.parametrize("profile", ["smoke", "default", "paper"])
+def test_every_profile_validates(profile):
+    assert load_params(profile).profile == profile
+
+
+def test_profile_leaf_resolves():
+    assert load_params("smoke").quickstart.resolution_m == 2.0
+    assert load_params("default").quickstart.resolution_m == 1.0
+
+
+def test_unknown_key_names_the_key(tmp_path):
+    path = _write(tmp_path, lambda r: r["quickstart"].update(bogus=1))
+    with pytest.raises(ParamsError, match=r"^quickstart\.bogus: unknown key"):
+        load_params("smoke", path)
+
+
+def test_wrong_type_names_key_and_value(tmp_path):
+    path = _write(tmp_path, lambda r: r["quickstart"].update(queries="many"))
+    with pytest.raises(ParamsError) as err:
+        load_params("smoke", path)
+    msg = str(err.value)
+    assert "quickstart.queries" in msg and "'many'" in msg and "integer" in msg
+    assert "\n" not in msg
+
+
+def test_out_of_range_says_what_is_allowed(tmp_path):
+    path = _write(tmp_path, lambda r: r["quickstart"].update(resolution_m={"default": 1.0, "smoke": 0.0}))
+    with pytest.raises(ParamsError, match=re.escape("quickstart.resolution_m = 0.0: out of range")):
+        load_params("smoke", path)
+    assert load_params("default", path).quickstart.resolution_m == 1.0
+
+
+def test_missing_key_and_bad_choice(tmp_path):
+    path = _write(tmp_path, lambda r: r["quickstart"].pop("city"))
+    with pytest.raises(ParamsError, match=r"quickstart\.city: missing"):
+        load_params("smoke", path)
+    path = _write(tmp_path, lambda r: r["quickstart"].update(city="paris"))
+    with pytest.raises(ParamsError, match=r"quickstart\.city = 'paris': allowed values"):
+        load_params("smoke", path)
+
+
+def test_unknown_profile():
+    with pytest.raises(ParamsError, match="allowed profiles"):
+        load_params("huge")
