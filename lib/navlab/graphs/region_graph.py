@@ -17,7 +17,8 @@ import numpy as np
 
 from navlab.core.grid import RasterFrame
 from navlab.core.labels import NUM_LABELS
-from navlab.graphs.superpixels import HARD
+from navlab.core.params.surenav_graph import GraphParams
+from navlab.graphs.superpixels import HARD, label_consistent_slic
 
 
 @dataclass(frozen=True)
@@ -154,3 +155,9 @@ def _shared_boundaries(nodes: np.ndarray, frame: RasterFrame):
     nearest = mids[order[np.searchsorted(inv[order], np.arange(len(edges)))]]
     portal = np.stack([frame.origin[0] + nearest[:, 1] * res, frame.origin[1] + nearest[:, 0] * res], axis=1)
     return edges, counts * res, portal
+
+
+def superpixel_graph(labels: np.ndarray, frame: RasterFrame, settings: GraphParams) -> RegionGraph:
+    """SLIC + graph in one call, with the `surenav.graph` settings of params.yaml."""
+    superpixels = label_consistent_slic(labels, settings.target_nodes, settings.compactness)
+    return build_region_graph(superpixels, labels, frame, settings.tau_m)

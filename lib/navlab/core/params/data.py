@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from navlab.core.params.demos import DemosParams
 from navlab.core.params.fields import between
 
 
 @dataclass(frozen=True)
 class DataParams:
     seed: int = between(0)
+    demos: DemosParams
