@@ -40,7 +40,7 @@ def city(size: int = 120, resolution: float = 1.0) -> SemanticMap:
     return SemanticMap("test_city", lab, RasterFrame((size, size), resolution))
 
 
-def grass_corner(side: int, leg: int = 3) -> SemanticMap:
+def grass_corner(side: int, leg: int = 1) -> SemanticMap:
     """An L of sidewalk (``leg`` wide) around a ``side``-metre square of grass; buildings elsewhere.
 
     Walking the L costs 2*side; cutting across the grass about sqrt(2)*side*grass_cost, so a fixed
@@ -52,3 +52,13 @@ def grass_corner(side: int, leg: int = 3) -> SemanticMap:
     lab[1:1 + leg, 1:n - 1] = L["sidewalk"]  # top leg
     lab[1 + leg:n - 1, 1 + leg:n - 1] = L["grass"]
     return SemanticMap(f"grass_corner_{side}", lab, RasterFrame((n, n), 1.0))
+
+
+def blobs(seed: int, size: int = 80, resolution: float = 1.0) -> SemanticMap:
+    """Random smooth label blobs over every label (hard ones included): irregular shapes and islands."""
+    from scipy import ndimage
+
+    gen = np.random.default_rng(seed)
+    fields = ndimage.gaussian_filter(gen.standard_normal((len(L), size, size)), sigma=(0, 4, 4))
+    lab = np.argmax(fields, axis=0).astype(np.uint8)
+    return SemanticMap(f"blobs_{seed}", lab, RasterFrame((size, size), resolution, (10.0, -5.0)))

@@ -13,10 +13,15 @@ import numpy as np
 
 from navlab.core.grid import RasterFrame
 from navlab.graphs.region_graph import RegionGraph
+from navlab.graphs.superpixels import HARD
 
 
-def trace_cells(path_xy: np.ndarray, frame: RasterFrame) -> np.ndarray:
-    """(M, 2) row/col cells a polyline passes through, 4-connected, consecutive repeats removed."""
+def trace_cells(path_xy: np.ndarray, frame: RasterFrame, passable: np.ndarray | None = None) -> np.ndarray:
+    """(M, 2) row/col cells a polyline passes through, 4-connected, consecutive repeats removed.
+
+    Where the polyline crosses a cell corner exactly, one of the two side cells is added, a
+    ``passable`` one when that mask is given.
+    """
     path_xy = np.asarray(path_xy, dtype=float)
     if path_xy.ndim != 2 or path_xy.shape[1] != 2 or len(path_xy) == 0:
         raise ValueError(f"path must be a (K, 2) array of world points, got shape {path_xy.shape}")
@@ -31,6 +36,11 @@ def trace_cells(path_xy: np.ndarray, frame: RasterFrame) -> np.ndarray:
     # a diagonal step touches two cells only at a corner: pass through one of the side cells
     diagonal = np.all(cells[1:] != cells[:-1], axis=1)
     side = np.stack([cells[1:, 0], cells[:-1, 1]], axis=1)[diagonal]
+    if passable is not None:
+        other = np.stack([cells[:-1, 0], cells[1:, 1]], axis=1)[diagonal]
+        ok = frame.contains(side)
+        ok[ok] = passable[side[ok, 0], side[ok, 1]]
+        side = np.where(ok[:, None], side, other)
     return np.insert(cells, np.nonzero(diagonal)[0] + 1, side, axis=0)
 
 
@@ -39,7 +49,7 @@ def path_to_regions(graph: RegionGraph, path_xy: np.ndarray) -> np.ndarray:
 
     Raises ValueError when the path enters a hard region or leaves the map.
     """
-    cells = trace_cells(path_xy, graph.frame)
+    cells = trace_cells(path_xy, graph.frame, passable=graph.superpixels != HARD)
     inside = graph.frame.contains(cells)
     if not inside.all():
         raise ValueError(f"path leaves the map at cell {tuple(cells[~inside][0])}; clip it to the map frame")

@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from navlab.core.grid import RasterFrame
-from navlab.core.labels import FREE_IDS, SOFT_IDS
+from navlab.core.labels import FREE_IDS, LABELS, SOFT_IDS
 from navlab.search.grid_astar import plan
 from navlab.surenav.experts.context_cost import ROAD, expert_cost
 from navlab.surenav.experts.hand_noise import dense_cells, hand_drawn
@@ -93,6 +93,26 @@ def admissible_cells(labels: np.ndarray, cells: np.ndarray) -> np.ndarray:
     return ok
 
 
+def _through_corners(labels: np.ndarray, cells: np.ndarray) -> np.ndarray | None:
+    """The route with every diagonal step split into two straight ones through a walkable side cell.
+
+    A person does not squeeze through the point where two buildings touch corners; a route that
+    only gets through such a pinch is dropped (None).
+    """
+    diagonal = np.all(cells[1:] != cells[:-1], axis=1)
+    if not diagonal.any():
+        return cells
+    a = np.stack([cells[1:, 0], cells[:-1, 1]], axis=1)[diagonal]
+    b = np.stack([cells[:-1, 0], cells[1:, 1]], axis=1)[diagonal]
+    rank = {"free": 0, "soft": 1, "hard": 2}
+    order = np.array([rank[lab.constraint] for lab in LABELS])
+    ra, rb = order[labels[a[:, 0], a[:, 1]]], order[labels[b[:, 0], b[:, 1]]]
+    if (np.minimum(ra, rb) == 2).any():
+        return None
+    side = np.where((ra <= rb)[:, None], a, b)
+    return np.insert(cells, np.nonzero(diagonal)[0] + 1, side, axis=0)
+
+
 def demonstrate(costs: CostCache, frame: RasterFrame, start, goal, persona: Persona, rng: np.random.Generator,
                 margin_cells: int) -> ExpertPath | None:
     """One hand-drawn demonstration from cell ``start`` to cell ``goal``; None if the goal is unreachable."""
@@ -100,6 +120,9 @@ def demonstrate(costs: CostCache, frame: RasterFrame, start, goal, persona: Pers
     if route is None:
         return None
     cells, jaywalked = route
+    cells = _through_corners(costs.labels, cells)
+    if cells is None:
+        return None
     admissible = admissible_cells(costs.labels, cells)
     path = hand_drawn(cells, frame, admissible, rng, persona.noise_amplitude_m, persona.noise_wavelength_m)
     return ExpertPath(path=path, cells=cells, jaywalked=jaywalked)
