@@ -1,0 +1,98 @@
+"""A* on an 8-connected (or 4-connected) cost grid.
+
+Hart, Nilsson and Raphael, "A Formal Basis for the Heuristic Determination of Minimum Cost Paths",
+IEEE Trans. SSC, 1968.
+
+Each cell carries a cost per metre (>= some positive minimum; ``inf`` blocks it). Moving between two
+neighbouring cells costs the step length times the mean of their costs, so a path's cost is the
+integral of cost along it and does not depend on which way it is walked. The heuristic is the octile
+distance times the cheapest cell cost, which never overestimates: the search returns an optimal path.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+_STRAIGHT = ((-1, 0), (1, 0), (0, -1), (0, 1))
+_DIAGONAL = ((-1, -1), (-1, 1), (1, -1), (1, 1))
+
+
+@dataclass(frozen=True)
+class GridPath:
+    cells: np.ndarray | None  # (K, 2) int64 (row, col) from start to goal; None when unreachable
+    cost: float  # inf when unreachable
+    expansions: int
+
+
+def _check_cell(name: str, cell, cost: np.ndarray) -> tuple[int, int]:
+    r, c = (int(v) for v in cell)
+    if not (0 <= r < cost.shape[0] and 0 <= c < cost.shape[1]):
+        raise ValueError(f"{name} {(r, c)} is outside the {cost.shape} grid")
+    if not np.isfinite(cost[r, c]):
+        raise ValueError(f"{name} {(r, c)} lies in a blocked cell (infinite cost); choose a traversable cell")
+    return r, c
+
+
+def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
+    """Optimal path from ``start`` to ``goal`` (row, col) over ``cost`` (per metre, ``inf`` = blocked)."""
+    cost = np.asarray(cost, dtype=np.float64)
+    if cost.ndim != 2:
+        raise ValueError(f"cost must be a 2-D array, got shape {cost.shape}")
+    finite = cost[np.isfinite(cost)]
+    if finite.size == 0 or finite.min() <= 0:
+        raise ValueError("cost must have positive finite values where traversable (got none or <= 0)")
+    start, goal = _check_cell("start", start, cost), _check_cell("goal", goal, cost)
+    rows, cols = cost.shape
+    h_scale = float(finite.min()) * resolution
+    moves = [(dr, dc, resolution * 0.5) for dr, dc in _STRAIGHT]
+    if diagonal:
+        moves += [(dr, dc, resolution * 0.5 * math.sqrt(2.0)) for dr, dc in _DIAGONAL]
+    flat_cost = cost.ravel().tolist()
+    gr, gc = goal
+
+    def heuristic(r: int, c: int) -> float:
+        dr, dc = abs(r - gr), abs(c - gc)
+        if not diagonal:
+            return (dr + dc) * h_scale
+        return (max(dr, dc) + (math.sqrt(2.0) - 1.0) * min(dr, dc)) * h_scale
+
+    start_i, goal_i = start[0] * cols + start[1], goal[0] * cols + goal[1]
+    g = {start_i: 0.0}
+    parent = {start_i: -1}
+    closed = set()
+    frontier = [(heuristic(*start), 0.0, start_i)]
+    expansions = 0
+    while frontier:
+        _, g_here, i = heapq.heappop(frontier)
+        if i in closed:
+            continue
+        closed.add(i)
+        expansions += 1
+        if i == goal_i:
+            break
+        r, c = divmod(i, cols)
+        c_here = flat_cost[i]
+        for dr, dc, half_step in moves:
+            nr, nc = r + dr, c + dc
+            if not (0 <= nr < rows and 0 <= nc < cols):
+                continue
+            j = nr * cols + nc
+            c_next = flat_cost[j]
+            if c_next == math.inf or j in closed:
+                continue
+            g_next = g_here + half_step * (c_here + c_next)
+            if g_next < g.get(j, math.inf):
+                g[j] = g_next
+                parent[j] = i
+                heapq.heappush(frontier, (g_next + heuristic(nr, nc), g_next, j))
+    if goal_i not in closed:
+        return GridPath(None, math.inf, expansions)
+    chain = [goal_i]
+    while parent[chain[-1]] != -1:
+        chain.append(parent[chain[-1]])
+    cells = np.array([divmod(i, cols) for i in reversed(chain)], dtype=np.int64)
+    return GridPath(cells, g[goal_i], expansions)

@@ -1,0 +1,59 @@
+"""Grid A* returns optimal paths: checked against scikit-image's MCP_Geometric (same cost model)."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from navlab.search.grid_astar import plan
+from navlab.search.grid_reference import dijkstra_cost
+
+
+def _path_cost(cost, cells, resolution):
+    steps = np.diff(cells, axis=0)
+    length = np.hypot(steps[:, 0], steps[:, 1]) * resolution
+    return float(np.sum(length * 0.5 * (cost[cells[:-1, 0], cells[:-1, 1]] + cost[cells[1:, 0], cells[1:, 1]])))
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10_000), rows=st.integers(2, 24), cols=st.integers(2, 24),
+       blocked=st.floats(0.0, 0.4), resolution=st.sampled_from([0.5, 1.0, 2.0]))
+def test_optimal_against_mcp_geometric(seed, rows, cols, blocked, resolution):
+    rng = np.random.default_rng(seed)
+    cost = rng.uniform(1.0, 10.0, (rows, cols))
+    cost[rng.random((rows, cols)) < blocked] = np.inf
+    start, goal = (0, 0), (rows - 1, cols - 1)
+    cost[start] = cost[goal] = 1.0
+    ours = plan(cost, start, goal, resolution=resolution)
+    reference = dijkstra_cost(cost, start, goal, resolution=resolution)
+    if not np.isfinite(reference):
+        assert ours.cells is None and math.isinf(ours.cost)
+        return
+    assert ours.cost == pytest.approx(reference, rel=1e-9)
+    cells = ours.cells
+    assert tuple(cells[0]) == start and tuple(cells[-1]) == goal
+    assert np.all(np.abs(np.diff(cells, axis=0)).max(axis=1) == 1)
+    assert np.all(np.isfinite(cost[cells[:, 0], cells[:, 1]]))
+    assert _path_cost(cost, cells, resolution) == pytest.approx(ours.cost, rel=1e-9)
+
+
+def test_four_connected_is_manhattan_on_uniform_grid():
+    path = plan(np.ones((5, 7)), (0, 0), (4, 6), diagonal=False)
+    assert path.cost == pytest.approx(10.0)
+
+
+def test_heuristic_prunes_expansions():
+    cost = np.ones((60, 60))
+    path = plan(cost, (30, 0), (30, 59))
+    assert path.cost == pytest.approx(59.0)
+    assert path.expansions < cost.size / 4  # a straight corridor of the open grid, not a flood fill
+
+
+@pytest.mark.parametrize("cell,msg", [((0, 0), "start .* blocked"), ((9, 9), "outside")])
+def test_bad_endpoints_name_the_problem(cell, msg):
+    cost = np.ones((5, 5))
+    cost[0, 0] = np.inf
+    with pytest.raises(ValueError, match=msg):
+        plan(cost, cell, (4, 4))
