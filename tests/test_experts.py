@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-from synthetic_city import blobs, city, grass_corner
 
 from navlab.core.io import sha256_file
 from navlab.core.labels import HARD_IDS, LABELS, SOFT_IDS, label_id
@@ -13,6 +12,7 @@ from navlab.search.grid_astar import plan
 from navlab.surenav.experts import PERSONAS, CostCache, demonstrate, map_environments
 from navlab.surenav.experts.hand_noise import dense_cells
 from navlab.surenav.experts.store import DEMOS_DIR, load_demos, save_map_demos
+from synthetic_city import blobs, city, grass_corner
 
 GRASS = label_id("grass")
 

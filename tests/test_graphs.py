@@ -1,11 +1,12 @@
 """Superpixel region graphs: label consistency, connectivity, projection round trip, incremental update."""
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from synthetic_city import blobs, city
 
 from navlab.core.labels import NUM_LABELS, label_id
 from navlab.graphs.incremental import update_graph
@@ -13,6 +14,7 @@ from navlab.graphs.projection import path_to_regions, regions_to_waypoints, trac
 from navlab.graphs.region_graph import build_region_graph
 from navlab.graphs.superpixels import HARD, label_consistent_slic, traversable_mask
 from navlab.search.grid_astar import plan
+from synthetic_city import blobs, city
 
 
 def _graph(m, n=120, tau=None):
@@ -90,7 +92,7 @@ def test_path_region_round_trip():
     seq = path_to_regions(g, path)
     assert len(seq) > 5 and np.all(seq[1:] != seq[:-1])
     neighbours = g.neighbours()
-    assert all(b in neighbours[a] for a, b in zip(seq[:-1], seq[1:], strict=True))  # consecutive = adjacent
+    assert all(b in neighbours[a] for a, b in itertools.pairwise(seq))  # consecutive = adjacent
     waypoints = regions_to_waypoints(g, seq)
     assert len(waypoints) == 2 * len(seq) - 1
     assert np.array_equal(g.node_at(waypoints[0::2]), seq)  # anchors lie in their own regions

@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
-from synthetic_city import city
 
 from navlab.core.labels import FREE_IDS, HARD_IDS, SOFT_IDS
 from navlab.core.seeding import rng
 from navlab.graphs.superpixels import label_consistent_slic
 from navlab.maps.perturb import obstruct_route
 from navlab.search.grid_astar import plan
+from synthetic_city import city
 
 
 @pytest.mark.parametrize("kind_probability", [1.0, 0.0])  # new obstacle / obfuscated prior

@@ -40,10 +40,10 @@ class MapDemos:
 
 def _pack(demos: list[Demonstration], kind: str) -> dict[str, np.ndarray]:
     out = {}
-    for name in _RAGGED:
+    for name, dtype in _RAGGED.items():
         parts = [getattr(d, name) for d in demos]
         empty = np.zeros((0, 2) if name == "path" else 0)
-        out[f"{kind}/{name}"] = np.concatenate(parts or [empty]).astype(_RAGGED[name])
+        out[f"{kind}/{name}"] = np.concatenate(parts or [empty]).astype(dtype)
         out[f"{kind}/{name}_offsets"] = np.cumsum([0] + [len(p) for p in parts]).astype(np.int64)
     out[f"{kind}/start"] = np.array([d.start for d in demos], dtype=np.float64).reshape(-1, 2)
     out[f"{kind}/goal"] = np.array([d.goal for d in demos], dtype=np.float64).reshape(-1, 2)
