@@ -62,7 +62,10 @@ def hand_drawn(cells: np.ndarray, frame: RasterFrame, admissible: np.ndarray, rn
         drawn = planned  # the plan itself runs through admissible cell centres
     # uneven spacing, like a hand slowing down and speeding up
     out = resample(drawn, step * rng.uniform(0.6, 1.0, size=int(2 * len(drawn)) + 2))
-    return out if _polyline_admissible(out, frame, admissible).all() else drawn
+    for candidate in (out, drawn):
+        if _admissible_points(resample(candidate, res / 4), frame, admissible).all():  # as dense_cells sees it
+            return candidate
+    return planned
 
 
 def _polyline_admissible(points: np.ndarray, frame: RasterFrame, admissible: np.ndarray) -> np.ndarray:

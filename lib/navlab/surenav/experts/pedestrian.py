@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from navlab.core.grid import RasterFrame
-from navlab.core.labels import FREE_IDS, LABELS, SOFT_IDS
+from navlab.core.labels import FREE_IDS, SOFT_IDS
 from navlab.search.grid_astar import plan
 from navlab.surenav.experts.context_cost import ROAD, expert_cost
 from navlab.surenav.experts.hand_noise import dense_cells, hand_drawn
@@ -39,7 +39,10 @@ class CostCache:
     def get(self, persona: Persona, jaywalk: bool) -> np.ndarray:
         key = (persona.name, jaywalk)
         if key not in self._cache:
-            self._cache[key] = expert_cost(self.labels, self.resolution, persona, jaywalk=jaywalk)
+            if jaywalk:
+                self._cache[key] = expert_cost(self.labels, self.resolution, persona, jaywalk=True)
+            else:  # the same raster with roads closed (saves the grass distance transform)
+                self._cache[key] = np.where(self.labels == ROAD, np.inf, self.get(persona, True))
         return self._cache[key]
 
 
@@ -93,23 +96,25 @@ def admissible_cells(labels: np.ndarray, cells: np.ndarray) -> np.ndarray:
     return ok
 
 
-def _through_corners(labels: np.ndarray, cells: np.ndarray) -> np.ndarray | None:
-    """The route with every diagonal step split into two straight ones through a walkable side cell.
+def _through_corners(cells: np.ndarray, *costs: np.ndarray) -> np.ndarray | None:
+    """The route with every diagonal step split into two straight ones through the cheaper side cell.
 
-    A person does not squeeze through the point where two buildings touch corners; a route that
-    only gets through such a pinch is dropped (None).
+    Sides are compared by ``costs[0]``, ties broken by the next rasters. A person does not squeeze
+    through the point where two buildings touch corners: a route that only gets through such a
+    pinch is dropped (None).
     """
     diagonal = np.all(cells[1:] != cells[:-1], axis=1)
     if not diagonal.any():
         return cells
     a = np.stack([cells[1:, 0], cells[:-1, 1]], axis=1)[diagonal]
     b = np.stack([cells[:-1, 0], cells[1:, 1]], axis=1)[diagonal]
-    rank = {"free": 0, "soft": 1, "hard": 2}
-    order = np.array([rank[lab.constraint] for lab in LABELS])
-    ra, rb = order[labels[a[:, 0], a[:, 1]]], order[labels[b[:, 0], b[:, 1]]]
-    if (np.minimum(ra, rb) == 2).any():
+    ca = np.stack([c[a[:, 0], a[:, 1]] for c in costs], axis=1)
+    cb = np.stack([c[b[:, 0], b[:, 1]] for c in costs], axis=1)
+    if not np.isfinite(np.minimum(ca, cb)).any(axis=1).all():
         return None
-    side = np.where((ra <= rb)[:, None], a, b)
+    first_diff = np.argmax(ca != cb, axis=1)
+    pick_a = ca[np.arange(len(a)), first_diff] <= cb[np.arange(len(a)), first_diff]
+    side = np.where(pick_a[:, None], a, b)
     return np.insert(cells, np.nonzero(diagonal)[0] + 1, side, axis=0)
 
 
@@ -120,7 +125,7 @@ def demonstrate(costs: CostCache, frame: RasterFrame, start, goal, persona: Pers
     if route is None:
         return None
     cells, jaywalked = route
-    cells = _through_corners(costs.labels, cells)
+    cells = _through_corners(cells, costs.get(persona, False), costs.get(persona, True))
     if cells is None:
         return None
     admissible = admissible_cells(costs.labels, cells)
