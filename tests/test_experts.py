@@ -6,10 +6,12 @@ import pytest
 from navlab.core.io import sha256_file
 from navlab.core.labels import HARD_IDS, LABELS, SOFT_IDS, label_id
 from navlab.core.params import load_params
+from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
+from navlab.graphs.projection import path_to_regions
 from navlab.graphs.superpixels import label_consistent_slic
 from navlab.search.grid_astar import plan
-from navlab.surenav.experts import PERSONAS, CostCache, demonstrate, map_environments
+from navlab.surenav.experts import PERSONAS, CostCache, MapDemos, demo_graph, demonstrate, map_environments
 from navlab.surenav.experts.hand_noise import dense_cells
 from navlab.surenav.experts.store import DEMOS_DIR, load_demos, save_map_demos
 from synthetic_city import blobs, city, grass_corner
@@ -91,8 +93,10 @@ def test_semi_static_variant_reuses_the_prefix_and_respects_the_change():
     m = city(160)
     settings = load_params("smoke").data.demos
     sp = label_consistent_slic(m.labels, 200, 1.0)
-    static, semi = map_environments(m, sp, 4, settings, rng(0, "semi"))
+    graph_settings = GraphParams(target_nodes=200, compactness=1.0, tau_m=1.0)
+    static, semi = map_environments(m, sp, 4, settings, rng(0, "semi"), 1.0)
     assert len(static) == len(semi) == 4
+    md = MapDemos(m.name, "train", sp, static, semi)
     for a, b in zip(static, semi, strict=True):
         assert a.prefix_len == 0 and len(a.delta_cells) == 0
         assert b.prefix_len >= 1 and np.array_equal(a.path[:b.prefix_len], b.path[:b.prefix_len])
@@ -105,7 +109,14 @@ def test_semi_static_variant_reuses_the_prefix_and_respects_the_change():
         assert np.isin(rc[:, 0] * m.labels.shape[1] + rc[:, 1], b.delta_cells).any()
         for demo, labels in ((a, m.labels), (b, changed)):
             assert np.isin(labels.ravel()[demo.relaxed_cells], SOFT_IDS).all()
-            assert np.array_equal(demo.relaxed_superpixels, np.unique(sp.ravel()[demo.relaxed_cells]))
+            # relaxed superpixels are nodes of the demo's graph (semi-static: incrementally updated)
+            graph = demo_graph(md, demo, m, graph_settings)
+            nodes = np.searchsorted(graph.region_ids, demo.relaxed_superpixels)
+            assert np.array_equal(graph.region_ids[nodes], demo.relaxed_superpixels)
+            assert np.array_equal(nodes, np.unique(graph.node_raster.ravel()[demo.relaxed_cells]))
+            visited = path_to_regions(graph, demo.path.astype(float))
+            assert set(nodes) <= set(visited[np.isin(graph.node_label[visited], SOFT_IDS)])
+            assert visited[0] == graph.start_node and visited[-1] == graph.goal_node
 
 
 def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
@@ -114,7 +125,7 @@ def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
     sp = label_consistent_slic(m.labels, 200, 1.0)
     files = []
     for run in range(2):
-        static, semi = map_environments(m, sp, 2, settings, rng(3, "det"))
+        static, semi = map_environments(m, sp, 2, settings, rng(3, "det"), 1.0)
         files.append(tmp_path / f"run{run}" / DEMOS_DIR / "train" / "city.npz")
         save_map_demos(files[-1], sp, static, semi, fingerprint="x")
     assert sha256_file(files[0]) == sha256_file(files[1])

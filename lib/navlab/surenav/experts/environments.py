@@ -14,6 +14,7 @@ import numpy as np
 
 from navlab.core.labels import FREE_IDS
 from navlab.core.params.demos import DemosParams
+from navlab.graphs.incremental import resegment
 from navlab.maps.perturb import obstruct_route
 from navlab.maps.queries import sample_pairs
 from navlab.maps.semantic_map import SemanticMap
@@ -33,7 +34,7 @@ class Demonstration:
     persona: int  # index into personas.PERSONAS
     jaywalked: bool
     relaxed_cells: np.ndarray  # sorted flat indices of the soft cells the path enters
-    relaxed_superpixels: np.ndarray  # sorted superpixel ids containing them
+    relaxed_superpixels: np.ndarray  # sorted superpixel ids containing them (semi-static: of the updated raster)
     delta_cells: np.ndarray  # semi-static: flat indices of the perturbed cells (empty for static)
     delta_labels: np.ndarray  # semi-static: their new labels
     prefix_len: int  # semi-static: points of ``path`` reused from the static drawing (0 for static)
@@ -56,7 +57,7 @@ def _record(kind, path, labels, superpixels, frame, start, goal, persona, jaywal
 
 
 def _semi_static(semantic_map, superpixels, static, start, goal, persona, rng, settings: DemosParams,
-                 margin: int):
+                 margin: int, compactness: float):
     labels, frame = semantic_map.labels, semantic_map.frame
     res = frame.resolution
     route = dense_cells(static.path, frame)
@@ -75,14 +76,19 @@ def _semi_static(semantic_map, superpixels, static, start, goal, persona, rng, s
         if redraw is None:
             continue
         path = np.concatenate([static.path[:cut], redraw.path])
-        return _record("semi_static", path, change.labels, superpixels, frame, start, goal, persona,
+        updated = resegment(superpixels, change.labels, change.changed, compactness)
+        return _record("semi_static", path, change.labels, updated, frame, start, goal, persona,
                        redraw.jaywalked, delta=change.delta(), prefix_len=cut)
     return None
 
 
 def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs: int, settings: DemosParams,
-                     rng: np.random.Generator) -> tuple[list[Demonstration], list[Demonstration]]:
-    """(static, semi_static) demonstrations of ``n_pairs`` start-goal pairs on one map (same order)."""
+                     rng: np.random.Generator, compactness: float) -> tuple[list[Demonstration], list[Demonstration]]:
+    """(static, semi_static) demonstrations of ``n_pairs`` start-goal pairs on one map (same order).
+
+    A semi-static demonstration's ``relaxed_superpixels`` are ids of the incrementally updated raster
+    (graphs.incremental.resegment with ``compactness``), the graph a planner sees after the change.
+    """
     labels, frame = semantic_map.labels, semantic_map.frame
     res = frame.resolution
     margin = int(np.ceil(settings.window_margin_m / res))
@@ -95,7 +101,8 @@ def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs
         demo = demonstrate(costs, frame, start, goal, PERSONAS[persona], rng, margin)
         if demo is None:
             continue
-        variant = _semi_static(semantic_map, superpixels, demo, start, goal, persona, rng, settings, margin)
+        variant = _semi_static(semantic_map, superpixels, demo, start, goal, persona, rng, settings, margin,
+                               compactness)
         if variant is None:
             continue
         static.append(_record("static", demo.path, labels, superpixels, frame, start, goal, persona, demo.jaywalked))

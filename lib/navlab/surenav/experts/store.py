@@ -17,8 +17,12 @@ from tqdm import tqdm
 from navlab.core.dataset import require
 from navlab.core.io import load_npz, save_npz, sha256_json, write_json
 from navlab.core.params import Params
+from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
+from navlab.graphs.incremental import resegment
+from navlab.graphs.region_graph import RegionGraph, build_region_graph
 from navlab.graphs.superpixels import label_consistent_slic
+from navlab.maps.semantic_map import SemanticMap
 from navlab.surenav.experts.environments import Demonstration, map_environments
 
 DEMOS_DIR = Path("surenav", "demos")
@@ -101,10 +105,28 @@ def build_demos(params: Params, out_dir: Path) -> None:
             if not _is_built(target, fingerprint):
                 superpixels = label_consistent_slic(semantic_map.labels, graph.target_nodes, graph.compactness)
                 static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
-                                                rng(settings.seed, "demos", split, semantic_map.name))
+                                                rng(settings.seed, "demos", split, semantic_map.name),
+                                                graph.compactness)
                 save_map_demos(target, superpixels, static, semi, fingerprint)
             index[split][semantic_map.name] = {"static": n_pairs, "semi_static": n_pairs}
     write_json(Path(out_dir, DEMOS_DIR, "index.json"), index)
+
+
+def demo_graph(md: MapDemos, demo: Demonstration, semantic_map: SemanticMap, graph: GraphParams) -> RegionGraph:
+    """The region graph a demonstration lives on, start and goal set; its ``relaxed_superpixels`` are
+    node ids of this graph (``np.searchsorted(g.region_ids, demo.relaxed_superpixels)`` gives nodes).
+
+    Static: the map's stored superpixels. Semi-static: those after the incremental update (Algorithm 1)
+    for the perturbed cells.
+    """
+    labels = demo.labels_on(semantic_map.labels)
+    superpixels = md.superpixels
+    if len(demo.delta_cells):
+        changed = np.zeros(labels.shape, dtype=bool)
+        changed.ravel()[demo.delta_cells] = True
+        superpixels = resegment(superpixels, labels, changed, graph.compactness)
+    region_graph = build_region_graph(superpixels, labels, semantic_map.frame, graph.tau_m)
+    return region_graph.with_endpoints(demo.start, demo.goal)
 
 
 def _is_built(target: Path, fingerprint: str) -> bool:
