@@ -10,6 +10,7 @@ from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
 from navlab.graphs.projection import path_to_regions
 from navlab.graphs.superpixels import label_consistent_slic
+from navlab.maps.dataset import load_maps
 from navlab.search.grid_astar import plan
 from navlab.surenav.experts import PERSONAS, CostCache, MapDemos, demo_graph, demonstrate, map_environments
 from navlab.surenav.experts.hand_noise import dense_cells
@@ -136,3 +137,19 @@ def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
             assert np.array_equal(getattr(mine, name), getattr(back, name)), name
         assert (mine.kind, mine.persona, mine.prefix_len, mine.jaywalked) == (
             back.kind, back.persona, back.prefix_len, back.jaywalked)
+
+
+def test_demos_step_on_the_smoke_dataset(smoke_data, smoke_params):
+    settings = smoke_params.data.demos
+    for split in ("train", "val", "test"):
+        maps = {m.name: m for m in load_maps(smoke_data, split)}
+        demos = load_demos(smoke_data, split)
+        assert sorted(md.map_name for md in demos) == sorted(maps)
+        want = settings.test_pairs_per_map if split == "test" else settings.pairs_per_map
+        for md in demos:
+            m = maps[md.map_name]
+            assert len(md.static) == len(md.semi_static) == want
+            for demo in md.static + md.semi_static:
+                assert not _enters_hard(demo.labels_on(m.labels), demo.path.astype(float), m.frame)
+                d = np.linalg.norm(demo.goal - demo.start)
+                assert settings.min_distance_m <= d <= settings.max_distance_m
