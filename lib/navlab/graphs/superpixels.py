@@ -51,13 +51,3 @@ def label_consistent_slic(labels: np.ndarray, n_segments: int, compactness: floa
     out[box][crop_mask] = pieces[crop_mask] - 1
     return out
 
-
-def relabel_sequential(superpixels: np.ndarray) -> np.ndarray:
-    """Ids renumbered 0..N-1 in order of first appearance in raster order (HARD stays HARD)."""
-    inside = superpixels != HARD
-    ids, first = np.unique(superpixels[inside], return_index=True)
-    rank = np.empty(len(ids), dtype=np.int32)
-    rank[np.argsort(first, kind="stable")] = np.arange(len(ids), dtype=np.int32)
-    out = np.full(superpixels.shape, HARD, dtype=np.int32)
-    out[inside] = rank[np.searchsorted(ids, superpixels[inside])]
-    return out
