@@ -12,6 +12,7 @@ regions, so node ``i`` is the raster id ``region_ids[i]`` (sorted).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -41,9 +42,9 @@ class RegionGraph:
     def num_nodes(self) -> int:
         return len(self.region_ids)
 
-    @property
+    @cached_property
     def node_raster(self) -> np.ndarray:
-        """(rows, cols) node index of every cell, -1 in hard space."""
+        """(rows, cols) node index of every cell, -1 in hard space (computed once per graph)."""
         out = np.full(self.superpixels.shape, -1, dtype=np.int64)
         inside = self.superpixels != HARD
         out[inside] = np.searchsorted(self.region_ids, self.superpixels[inside])
