@@ -3,6 +3,8 @@
 Layout: ``<data>/surenav/demos/<split>/<map>.npz`` holds the map's superpixel raster (the regions the
 relaxed-region masks and perturbations refer to) and, per kind (``static``, ``semi_static``), every
 demonstration's arrays concatenated with offsets; ``<data>/surenav/demos/index.json`` counts them.
+The superpixels follow params.yaml ``surenav.graph`` (the graph the SuReNav planner is trained on), so
+the snapshot depends on that section as well as on ``data.demos``.
 """
 
 from __future__ import annotations
