@@ -170,7 +170,7 @@ def generate(seed: int, name: str, structure: float, params: ProceduralParams, r
     if not 0.0 <= structure <= 1.0:
         raise ValueError(f"structure = {structure}: must lie in [0, 1] (1 = grid city, 0 = irregular)")
     rng = seeded_rng(seed, "procedural", name)
-    side = int(round(params.tile_size_m / resolution))
+    side = round(params.tile_size_m / resolution)
     shape = (side, side)
     lines, vertices, ridges = street_network(rng, structure, params.tile_size_m, tuple(params.block_size_m))
     n = len(lines)
