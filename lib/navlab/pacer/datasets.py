@@ -13,6 +13,7 @@ costmap     float32 (S, S)          target cost (l-1)/(L-1) of each pixel's terr
 fov_mask    bool (S, S)             the trapezoid field of view (the loss is taken inside it only)
 labels      int64 (S, S)            terrain ids (``TerrainBank.terrains``), -1 outside the FOV
 ordering    int64 (L_max,)          the L terrains in view, most preferred first, padded with -1
+pairs       int64 (n, 2)            terrain ids (preferred, other) of each context pair, in channel order
 =========== ======================= =================================================================
 
 Recipes (``RECIPES``):
@@ -38,7 +39,7 @@ from torch.utils.data import Dataset
 from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng as seeded_rng
-from navlab.pacer.bev import render_bev
+from navlab.pacer.bev import fov_mask, render_bev
 from navlab.pacer.context import preference_context, uninformative_terrains
 from navlab.pacer.layouts import bev_layout
 from navlab.pacer.preferences import IGNORE, Preference, order_terrains, pad_ordering, target_costmap
@@ -108,7 +109,8 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
     regions = bev_layout(rng, params.image_size, params.layout, params.camera.near_width)
     region_terrains = rng.choice(bank.ids(recipe.terrains), size=int(regions.max()) + 1, replace=False)
     if recipe.synthetic:
-        region_terrains = _replace_with_synthetic(region_terrains, bank, rng, params.synthetic_replace)
+        visible = np.unique(regions[fov_mask(params.image_size, params.camera.near_width)])
+        region_terrains = _replace_with_synthetic(region_terrains, visible, bank, rng, params.synthetic_replace)
     terrain_map = region_terrains[regions]
     image, fov = render_bev(terrain_map, bank, rng, params)
     labels = np.where(fov, terrain_map, IGNORE)
@@ -119,7 +121,7 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
         other = "unseen" if recipe.terrains == "seen" else "seen"
         shown = uninformative_terrains(bank.ids(other), params.n_pairs, rng)
         context_ordering = order_terrains(shown, recipe.preference, bank, rng)
-    context, _ = preference_context(bank, context_ordering, rng, params)
+    context, pairs = preference_context(bank, context_ordering, rng, params)
     return {
         "image": np.ascontiguousarray(image.transpose(2, 0, 1)),
         "context": context,
@@ -127,15 +129,17 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
         "fov_mask": fov,
         "labels": labels.astype(np.int64),
         "ordering": pad_ordering(ordering, max_terrains(params)),
+        "pairs": pairs,
     }
 
 
-def _replace_with_synthetic(terrains: np.ndarray, bank: TerrainBank, rng: np.random.Generator,
-                            chance: float) -> np.ndarray:
-    """Each terrain becomes a distinct synthetic one with probability ``chance``; at least one does."""
+def _replace_with_synthetic(terrains: np.ndarray, visible: np.ndarray, bank: TerrainBank,
+                            rng: np.random.Generator, chance: float) -> np.ndarray:
+    """Each region's terrain becomes a distinct synthetic one with probability ``chance``; at least one
+    region in view (``visible``) does, so every D_synthetic image shows a synthetic terrain."""
     replace = rng.uniform(size=len(terrains)) < chance
-    if not replace.any():
-        replace[int(rng.integers(len(terrains)))] = True
+    if not replace[visible].any():
+        replace[visible[int(rng.integers(len(visible)))]] = True
     out = terrains.copy()
     out[replace] = rng.choice(bank.ids("synthetic"), size=int(replace.sum()), replace=False)
     return out
