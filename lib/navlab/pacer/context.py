@@ -12,11 +12,14 @@ another group than the image shows, so it says nothing about the image's terrain
 
 from __future__ import annotations
 
+from typing import Literal
+
 import cv2
 import numpy as np
 
 from navlab.core.params.pacer import PacerDataParams
 from navlab.pacer.bev import texels_per_pixel
+from navlab.pacer.preferences import Preference, order_terrains
 from navlab.pacer.terrain import PYRAMID_LEVELS, TerrainBank
 
 
@@ -69,10 +72,14 @@ def preference_context(bank: TerrainBank, ordering: np.ndarray, rng: np.random.G
     return stack_context(patches[:, 0], patches[:, 1]), pairs
 
 
-def uninformative_terrains(candidates: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
-    """The fewest of ``candidates`` (terrain ids of a group the image does not show) that give ``n_pairs``
-    distinct pairs, drawn at random: the terrains of an uninformative context."""
+def uninformative_context(bank: TerrainBank, shown: Literal["seen", "unseen"], preference: Preference,
+                          rng: np.random.Generator, params: PacerDataParams) -> tuple[np.ndarray, np.ndarray]:
+    """(context, pairs) like :func:`preference_context`, but over terrains of the group the environment
+    does *not* show (``shown`` seen -> unseen terrains and vice versa): the fewest such terrains that give
+    ``n_pairs`` distinct pairs, drawn at random and ordered by ``preference``."""
+    other = bank.ids("unseen" if shown == "seen" else "seen")
     count = 2
-    while count * (count - 1) // 2 < n_pairs:
+    while count * (count - 1) // 2 < params.n_pairs:
         count += 1
-    return rng.choice(np.asarray(candidates, dtype=np.int64), size=min(count, len(candidates)), replace=False)
+    terrains = rng.choice(other, size=min(count, len(other)), replace=False)
+    return preference_context(bank, order_terrains(terrains, preference, bank, rng), rng, params)
