@@ -32,9 +32,7 @@ def margin_ranking_loop(pred: np.ndarray, labels: np.ndarray, ordering: np.ndarr
     for a, b in itertools.combinations(points.tolist(), 2):
         pa, pb = pred.flat[a], pred.flat[b]
         ra, rb = rank[int(labels.flat[a])], rank[int(labels.flat[b])]
-        if ra == rb:
-            total += abs(pa - pb)
-        elif (ra < rb) != (pa < pb):
+        if ra == rb or (ra < rb) != (pa < pb):
             total += abs(pa - pb)
         count += 1
     return total / count

@@ -86,6 +86,12 @@ class TerrainBank:
         raise KeyError(f"terrain {name!r} is not in the bank; known terrains: {', '.join(self.names)}")
 
 
+def pyramid_level(scale: float) -> int:
+    """The pyramid level to sample at ``scale`` photograph pixels per output pixel: the coarsest one that
+    still leaves at least one texel per pixel, so linear interpolation never skips texels (no aliasing)."""
+    return int(np.clip(np.floor(np.log2(max(scale, 1.0))), 0, PYRAMID_LEVELS - 1))
+
+
 def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainBank:
     """The bank for ``params`` (``params.pacer.data``) from ``<data_dir>/raw/terrain``."""
     _check_split(params)
