@@ -82,8 +82,14 @@ def uninformative_context(bank: TerrainBank, shown: Literal["seen", "unseen"], p
     does *not* show (``shown`` seen -> unseen terrains and vice versa): the fewest such terrains that give
     ``n_pairs`` distinct pairs, drawn at random and ordered by ``preference``."""
     other = bank.ids("unseen" if shown == "seen" else "seen")
-    count = 2
-    while count * (count - 1) // 2 < params.n_pairs:
-        count += 1
-    terrains = rng.choice(other, size=min(count, len(other)), replace=False)
+    terrains = uninformative_terrains(other, params.n_pairs, rng)
     return preference_context(bank, order_terrains(terrains, preference, bank, rng), rng, params)
+
+
+def uninformative_terrains(candidates: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
+    """The fewest of ``candidates`` (terrain ids of a group the image does not show) that give ``n_pairs``
+    distinct pairs, drawn at random: the terrains of an uninformative context (unordered)."""
+    count = 2
+    while count * (count - 1) // 2 < n_pairs:
+        count += 1
+    return rng.choice(np.asarray(candidates, dtype=np.int64), size=min(count, len(candidates)), replace=False)
