@@ -47,7 +47,6 @@ from navlab.pacer.terrain import TerrainBank, load_terrain_bank
 
 Split = Literal["train", "val", "test"]
 SPLITS: tuple[Split, ...] = ("train", "val", "test")
-TRAINING_SETS = ("real", "shuffled", "synthetic")
 
 
 @dataclass(frozen=True)
