@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import shutil
 
 import numpy as np
 import pytest
@@ -111,13 +110,37 @@ def test_maps_step_outputs_and_routes_on_real_test_tiles(smoke_data, smoke_param
             assert not constraint_mask(smap.labels[cells[:, 0], cells[:, 1]], "hard").any()
 
 
-def test_maps_step_is_byte_deterministic(smoke_data, smoke_params, tmp_path):
-    shutil.copytree(smoke_data / "raw", tmp_path / "raw")
-    dataset.build_maps(smoke_params, tmp_path)
-    ours, theirs = sorted((smoke_data / "surenav" / "maps").rglob("*")), sorted((tmp_path / "surenav" / "maps").rglob("*"))
-    assert [p.relative_to(smoke_data) for p in ours] == [p.relative_to(tmp_path) for p in theirs]
-    for a, b in zip(ours, theirs, strict=True):
-        assert a.is_dir() or a.read_bytes() == b.read_bytes(), a.name
+def _fake_tiles():
+    from navlab.core.grid import RasterFrame
+    from navlab.maps.network import WalkableNetwork
+    from navlab.maps.semantic_map import SemanticMap
+    from navlab.maps.tiles import Tile
+
+    gen = np.random.default_rng(0)
+    tiles = []
+    for city in ("helsinki", "kouvola", "monaco"):
+        for k in range(6):
+            labels = np.where(gen.random((20, 20)) < gen.uniform(0, 0.3), label_id("sidewalk"), label_id("road"))
+            smap = SemanticMap(f"{city}_{k}", labels.astype(np.uint8), RasterFrame((20, 20), 1.0))
+            tiles.append(Tile(city, 0, k, smap, WalkableNetwork(np.zeros((0, 2)), np.zeros((0, 2), np.int64))))
+    return tiles
+
+
+def test_test_split_is_seeded_and_takes_well_mapped_tiles():
+    from navlab.maps.tiles import choose_test_tiles
+
+    tiles = _fake_tiles()
+    names = [[t.map.name for t, _ in choose_test_tiles(tiles, 0.05, 2, seed)] for seed in range(6)]
+    again = [[t.map.name for t, _ in choose_test_tiles(tiles, 0.05, 2, seed)] for seed in range(6)]
+    assert names == again and len({tuple(n) for n in names}) > 1
+    for seed in range(6):
+        chosen = choose_test_tiles(tiles, 0.05, 2, seed)
+        assert len({t.map.name for t, _ in chosen}) == 5
+        for tile, role in chosen[:3]:
+            same_city = [t.sidewalk_fraction for t in tiles if t.city == tile.city]
+            assert tile.sidewalk_fraction >= max(np.median(same_city), 0.05)
+            assert role == {"helsinki": "baltimore", "monaco": "milan", "kouvola": "capitol_hill"}[tile.city]
+        assert all(t.sidewalk_fraction >= 0.05 and r == "human_likeness" for t, r in chosen[3:])
 
 
 def test_missing_maps_raise_data_error(tmp_path):

@@ -65,7 +65,7 @@ def _data_build(args) -> int:
         if params.profile != dataset.RECORDED_PROFILE:
             raise DataError(f"data.dvc records the {dataset.RECORDED_PROFILE!r} profile; "
                             f"rerun with --profile {dataset.RECORDED_PROFILE}")
-        subprocess.run(["dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
         print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
         return 0
     if not checked:
@@ -75,7 +75,7 @@ def _data_build(args) -> int:
     ok, msg = dataset.verify(data_dir, dvc_file)
     print(msg)
     if ok:
-        subprocess.run(["dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
     return 0 if ok else 1
 
 

@@ -42,8 +42,8 @@ import osmium
 from navlab.core.dataset import require
 from navlab.core.grid import RasterFrame
 from navlab.core.labels import label_id
-from navlab.maps.network import WalkableNetwork, restrict_to_map
 from navlab.maps.draw import fill, stroke
+from navlab.maps.network import WalkableNetwork, restrict_to_map
 from navlab.maps.semantic_map import SemanticMap
 
 CITIES = ("helsinki", "kouvola", "monaco")
@@ -398,7 +398,7 @@ def walkable_network(feats: OsmFeatures) -> WalkableNetwork:
         return WalkableNetwork(np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64))
     ids = np.concatenate([i for _, i in ways])
     xy = np.concatenate([p for p, _ in ways])
-    node_ids, first, index = np.unique(ids, return_index=True, return_inverse=True)
+    _, first, index = np.unique(ids, return_index=True, return_inverse=True)
     ends = np.cumsum([len(i) for _, i in ways])
     a = np.delete(np.arange(ids.size - 1), ends[:-1] - 1)
     edges = np.sort(np.stack([index[a], index[a + 1]], axis=1), axis=1)

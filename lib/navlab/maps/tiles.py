@@ -3,7 +3,7 @@
 The paper tests on three held-out cities of different structure (Baltimore: grid, Milan: irregular,
 Capitol Hill: mixed) plus two more maps for human-likeness. Our stand-ins: one tile each from
 Helsinki (grid-like), Monaco (irregular) and Kouvola (suburban), then ``extra`` more real tiles, each
-drawn by a seeded generator among the tiles with enough sidewalk.
+drawn by a seeded generator among the tiles with enough sidewalk (``choose_test_tiles``).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ class Tile:
 
 def cut_tiles(city: str, smap: SemanticMap, network: WalkableNetwork, size_m: float) -> list[Tile]:
     """Every whole ``size_m`` square tile of the city, row-major, each in its own frame (origin 0, 0)."""
-    cells = int(round(size_m / smap.frame.resolution))
+    cells = round(size_m / smap.frame.resolution)
     tiles = []
     rows, cols = smap.labels.shape
     for i in range(rows // cells):
@@ -52,11 +52,16 @@ def cut_tiles(city: str, smap: SemanticMap, network: WalkableNetwork, size_m: fl
 
 def choose_test_tiles(tiles: list[Tile], min_sidewalk: float, extra: int, seed: int) -> list[tuple[Tile, str]]:
     """(tile, role) for one test tile per city (role: the paper city it stands for) and ``extra`` more
-    (role ``human_likeness``), drawn among the tiles with at least ``min_sidewalk`` sidewalk cells."""
+    (role ``human_likeness``), drawn among the tiles with at least ``min_sidewalk`` sidewalk cells.
+
+    A test city's tile comes from the better-mapped half of that city (sidewalk fraction at least the
+    city's median), so that it shows the city's streets rather than its harbour or its fields.
+    """
     eligible = [t for t in tiles if t.sidewalk_fraction >= min_sidewalk]
     chosen: list[tuple[Tile, str]] = []
     for city, role in TEST_CITY_ROLES.items():
-        pool = [t for t in eligible if t.city == city]
+        median = np.median([t.sidewalk_fraction for t in tiles if t.city == city] or [np.inf])
+        pool = [t for t in eligible if t.city == city and t.sidewalk_fraction >= median]
         if not pool:
             raise ValueError(f"{city}: no tile has a sidewalk fraction >= {min_sidewalk}; "
                              "lower data.maps.min_sidewalk_fraction in params.yaml")
