@@ -18,6 +18,7 @@ import numpy as np
 from navlab.core.labels import FREE_IDS, SOFT_IDS, label_id
 
 OBSTACLE = label_id("building")
+CROSSWALK = label_id("crosswalk")
 NO_REGION = -1
 
 
@@ -83,7 +84,7 @@ def obstruct_route(labels: np.ndarray, superpixels: np.ndarray, route_cells: np.
             new_labels[region] = OBSTACLE
         else:
             kinds.append("obfuscated")
-            others = SOFT_IDS[SOFT_IDS != seed_label]
+            others = SOFT_IDS[(SOFT_IDS != seed_label) & (SOFT_IDS != CROSSWALK)]  # a crosswalk obstructs nothing
             new_labels[region] = others[rng.integers(len(others))]
         changed |= region
     return Perturbation(new_labels, changed, seeds.astype(np.int64), tuple(kinds))
