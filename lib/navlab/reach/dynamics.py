@@ -235,7 +235,8 @@ class SingleIntegratorPursuitEvasion(Dynamics):
         return _sign(self.control_mode) * speed * torch.sqrt(grad[0] ** 2 + grad[1] ** 2)
 
     def partial_max_magnitudes(self, state):
-        return [self.evader_speed + self.pursuer_speed] * 2
+        # ∂H/∂p = (v_e − v_p) p/|p|: the inputs' own bound v_e + v_p would over-smear the front
+        return [abs(self.evader_speed - self.pursuer_speed)] * 2
 
     def optimal_control(self, state, grad):
         norm = torch.sqrt(grad[0] ** 2 + grad[1] ** 2).clamp(min=1e-12)
