@@ -1,6 +1,8 @@
 """The three value functions of HJ-search (paper Sec. VI): general TTR, static-map BRT, human-robot BRT.
 
 Pure functions of explicit arguments (dynamics, grid, geometry, settings); params.yaml is read elsewhere.
+Every function takes ``device`` (CPU default), ``dtype`` (float32 default), ``progress`` (tqdm) and
+``compile`` (torch.compile the numerical Hamiltonian; pays off on CUDA for large grids).
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ def time_to_reach(
     device="cpu",
     dtype=torch.float32,
     progress: bool = True,
+    compile: bool = False,
 ) -> torch.Tensor:
     """Minimum time to reach {l ≤ 0}, by first entry into the growing reach tube (Mitchell et al. 2005).
 
@@ -69,6 +72,7 @@ def time_to_reach(
         device=device,
         dtype=dtype,
         progress=progress,
+        compile=compile,
         on_step=record_first_entry,
     )
     return ttr.clamp_(max=horizon)
@@ -85,6 +89,7 @@ def general_ttr(
     device="cpu",
     dtype=torch.float32,
     progress: bool = True,
+    compile: bool = False,
 ) -> torch.Tensor:
     """Goal-centred TTR of the 4D car in free space (paper Sec. VI-A): goal = disk of ``goal_radius``
     at the origin of the (x, y) axes; grid axes (x, y, v, θ)."""
@@ -101,6 +106,7 @@ def general_ttr(
         device=device,
         dtype=dtype,
         progress=progress,
+        compile=compile,
     )
 
 
@@ -114,6 +120,7 @@ def avoid_tube(
     device="cpu",
     dtype=torch.float32,
     progress: bool = True,
+    compile: bool = False,
 ):
     """Avoid BRT value V(x, horizon) for the failure set {l < 0} (control 'max'); returns the Solution."""
     if dynamics.control_mode != "max":
@@ -123,7 +130,15 @@ def avoid_tube(
         )
     settings = dataclasses.replace(settings, value_postprocessor="backward_reachable_tube")
     return solve(
-        dynamics, grid, failure_values, horizon, settings, device=device, dtype=dtype, progress=progress
+        dynamics,
+        grid,
+        failure_values,
+        horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
     )
 
 
@@ -141,6 +156,7 @@ def static_brt(
     device="cpu",
     dtype=torch.float32,
     progress: bool = True,
+    compile: bool = False,
 ):
     """Static-map avoid BRT (paper Sec. VI-B), run until the band |V| < ``band`` stops moving: by less
     than ``tolerance`` (metres of value) over ``window`` seconds of horizon.
@@ -162,7 +178,15 @@ def static_brt(
     )
     avoid_car = dataclasses.replace(car, control_mode="max")
     return avoid_tube(
-        avoid_car, grid, failure, max_horizon, settings, device=device, dtype=dtype, progress=progress
+        avoid_car,
+        grid,
+        failure,
+        max_horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
     )
 
 
@@ -176,6 +200,7 @@ def human_brt(
     device="cpu",
     dtype=torch.float32,
     progress: bool = True,
+    compile: bool = False,
 ) -> torch.Tensor:
     """Human-robot avoid BRT over a fixed horizon (paper Sec. VI-C) on the (p_x, p_y, v) grid of
     ``HumanRobotRelative``; collision when the human is within ``collision_radius`` of the robot."""
@@ -185,7 +210,15 @@ def human_brt(
     failure = disk_signed_distance(grid, collision_radius, device, dtype)
     avoid = dataclasses.replace(relative, control_mode="max")
     return avoid_tube(
-        avoid, grid, failure, horizon, settings, device=device, dtype=dtype, progress=progress
+        avoid,
+        grid,
+        failure,
+        horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
     ).values
 
 
