@@ -85,7 +85,7 @@ def time_brt(shape, device, compile: bool, max_horizon: float):
         window=0.5,
         settings=SETTINGS,
         device=device,
-        progress=False,
+        progress=True,
         compile=compile,
     )
     _sync(device)
