@@ -14,6 +14,11 @@ distance (walls plus three boxes); the real rooms come from navlab.maps.rooms.
 
     python benchmarks/hj_cuda_timing.py --device cuda             # everything below
     python benchmarks/hj_cuda_timing.py --only ratio --device cuda
+
+Measured 2026-11-23 on one H100 80GB (torch 2.11, compiled Hamiltonian, compile time included):
+BRT 79.5 s (≈20 s compiling, converged at τ = 8.06 s, 1120 steps), TTR 110 s (≈15 s compiling,
+τ = 14 s, 99.5 % of states reached); peak 10.4 float32 per grid point. CPU (16 threads) vs CUDA on the
+81×41×11×36 BRT, τ = 3 s: 23-30 s vs 1.8-2.0 s eager (13-15×) and 0.05 s compiled (≈500×).
 """
 
 from __future__ import annotations

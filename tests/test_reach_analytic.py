@@ -140,15 +140,35 @@ def test_bad_inputs_stop_with_a_message_naming_the_fix():
     with pytest.raises(ValueError, match="rk_order"):
         SolverSettings(rk_order=4)
     with pytest.raises(ValueError, match="control_mode='min'"):
-        time_to_reach(SingleIntegrator(1.0, control_mode="max"), grid, torch.zeros(11, 11), 1.0, progress=False)
+        time_to_reach(
+            SingleIntegrator(1.0, control_mode="max"), grid, torch.zeros(11, 11), 1.0, progress=False
+        )
 
 
 def test_float64_and_snapshots_at_requested_times():
     grid = _square(41, 2.0)
     r = torch.sqrt(grid.mesh(0, dtype=torch.float64) ** 2 + grid.mesh(1, dtype=torch.float64) ** 2)
-    solution = solve(SingleIntegrator(1.0), grid, r - 0.5, [0.0, 0.25, 0.5], dtype=torch.float64, progress=False)
+    solution = solve(
+        SingleIntegrator(1.0), grid, r - 0.5, [0.0, 0.25, 0.5], dtype=torch.float64, progress=False
+    )
     assert solution.snapshots.dtype == torch.float64 and solution.snapshots.shape == (3, 41, 41)
     assert solution.time == pytest.approx(0.5)
     far = r > 1.2
     for tau, values in zip([0.0, 0.25, 0.5], solution.snapshots):
         assert torch.allclose(values[far], (r - 0.5 - tau)[far], atol=0.02)
+
+
+def test_global_dissipation_smears_more_than_local_but_stays_within_the_margin():
+    grid = _square(61, 2.5)
+    x, v = grid.mesh(0, dtype=torch.float64), grid.mesh(1, dtype=torch.float64)
+    t_star = _double_integrator_min_time(x, v)
+    exact = (t_star - 1.0).clamp(min=0)
+    region = (x.abs() <= 1.0) & (v.abs() <= 1.0) & (exact < 1.8)
+    mean_error = {}
+    for kind in ("local", "global"):
+        settings = SolverSettings(scheme="eno2", dissipation=kind)
+        ttr = time_to_reach(
+            DoubleIntegrator(1.0), grid, t_star - 1.0, 2.0, settings, progress=False, dtype=torch.float64
+        )
+        mean_error[kind] = float((ttr - exact)[region].abs().mean())
+    assert mean_error["local"] < mean_error["global"] < 0.05, mean_error
