@@ -49,8 +49,10 @@ def sidecar_path(path: str | Path) -> Path:
     return Path(path).with_suffix(".json")
 
 
-def save_grid(path: str | Path, values: np.ndarray, grid: Grid, inputs: dict[str, Any]) -> Path:
-    """Write ``values`` (shape ``grid.shape``) and its sidecar; ``inputs`` is everything it depends on."""
+def save_grid(path: str | Path, values: np.ndarray, grid: Grid, inputs: dict[str, Any],
+              info: dict[str, Any] | None = None) -> Path:
+    """Write ``values`` (shape ``grid.shape``) and its sidecar; ``inputs`` is everything it depends on,
+    ``info`` what the build observed (solve time, convergence) — recorded, not compared."""
     path = Path(path)
     values = np.ascontiguousarray(values)
     if values.shape != grid.shape:
@@ -71,6 +73,7 @@ def save_grid(path: str | Path, values: np.ndarray, grid: Grid, inputs: dict[str
         "grid": grid_to_dict(grid),
         "inputs": json.loads(json.dumps(inputs, default=str)),
         "inputs_hash": sha256_json(inputs),
+        "info": info or {},
     })
     return path
 

@@ -46,7 +46,8 @@ class TTRGridParams:
     shape: tuple[int, ...] = between(2, length=4)  # (x, y, v, θ)
     half_extent_m: float = between(0.5, 50.0)
     goal_radius_m: float = between(0.01, 5.0)
-    horizon_s: float = between(0.1, 120.0)
+    horizon_s: float = between(0.1, 120.0)  # unreached states get this lower bound
+    stall_s: float = between(0.01, 120.0)  # stop once nothing new was reached for this long
 
 
 @dataclass(frozen=True)
@@ -54,7 +55,9 @@ class StaticBRTGridParams:
     """Static-map avoid BRT over a whole room (bounds from the room), run to convergence or the horizon."""
 
     shape: tuple[int, ...] = between(2, length=4)  # (x, y, v, θ)
-    horizon_s: float = between(0.1, 120.0)
+    horizon_s: float = between(0.1, 120.0)  # the most we march; convergence usually stops it earlier
+    band_m: float = between(0.001, 10.0)  # convergence test on the states with |V| < band_m ...
+    tolerance: float = between(1e-6, 1.0)  # ... whose values change slower than this (m/s)
 
 
 @dataclass(frozen=True)
