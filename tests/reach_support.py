@@ -30,12 +30,12 @@ def interpolate(grid, values: torch.Tensor, points: list[torch.Tensor]) -> torch
             i0 = torch.floor(pos).long()
             index.append((i0 % n, (i0 + 1) % n))
         else:
-            pos = pos.clamp(0, n - 1 - 1e-6)
-            i0 = torch.floor(pos).long()
+            pos = pos.clamp(0, n - 1)
+            i0 = torch.floor(pos).long().clamp(max=n - 2)
             index.append((i0, i0 + 1))
         weight.append(pos - i0)
     out = torch.zeros_like(points[0])
-    for corner in range(2 ** grid.ndim):
+    for corner in range(2**grid.ndim):
         bits = [(corner >> d) & 1 for d in range(grid.ndim)]
         w = torch.ones_like(points[0])
         for d, b in enumerate(bits):

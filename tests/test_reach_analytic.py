@@ -4,13 +4,17 @@ import math
 
 import pytest
 import torch
-from reach_support import single_thread  # noqa: F401
 
-from navlab.reach.dynamics import DoubleIntegrator, DubinsCar4D, SingleIntegrator, SingleIntegratorPursuitEvasion
+from navlab.reach.dynamics import (
+    DoubleIntegrator,
+    DubinsCar4D,
+    SingleIntegrator,
+    SingleIntegratorPursuitEvasion,
+)
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
-from navlab.reach.solver import solve
 from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
+from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 
@@ -26,8 +30,9 @@ def test_single_integrator_ttr_is_distance_over_speed(name, margin):
     for n in (41, 81):
         grid = _square(n, 2.0)
         r = torch.sqrt(grid.mesh(0) ** 2 + grid.mesh(1) ** 2)
-        ttr = time_to_reach(SingleIntegrator(speed), grid, r - radius, 1.0, SolverSettings(scheme=name),
-                            progress=False)
+        ttr = time_to_reach(
+            SingleIntegrator(speed), grid, r - radius, 1.0, SolverSettings(scheme=name), progress=False
+        )
         exact = ((r - radius) / speed).clamp(min=0)
         inside = r <= 2.0  # every state within reach of the target before the horizon
         errors.append(float((ttr - exact)[inside].abs().max()))
@@ -48,7 +53,7 @@ def test_pursuit_evasion_capture_radius_grows_at_the_speed_difference(name, marg
         # grows by (v_p − v_e) τ
         exact = ((failure + radius) - (pursuer - evader) * tau).clamp(min=0) - radius
         errors.append(float((values - exact).abs().max()))
-        row = values[n // 2:, n // 2]  # along +x from the centre
+        row = values[n // 2 :, n // 2]  # along +x from the centre
         i = int((row <= 0).nonzero().max())
         crossing = grid.axis(0)[n // 2 + i] + grid.spacing[0] * float(-row[i] / (row[i + 1] - row[i]))
         assert abs(crossing - (radius + (pursuer - evader) * tau)) <= grid.spacing[0]
@@ -79,8 +84,15 @@ def test_double_integrator_minimum_time_function():
         grid = _square(n, 2.5)
         x, v = grid.mesh(0, dtype=torch.float64), grid.mesh(1, dtype=torch.float64)
         t_star = _double_integrator_min_time(x, v)
-        ttr = time_to_reach(DoubleIntegrator(1.0), grid, t_star - t0, 2.0, SolverSettings(scheme="weno5"),
-                            progress=False, dtype=torch.float64)
+        ttr = time_to_reach(
+            DoubleIntegrator(1.0),
+            grid,
+            t_star - t0,
+            2.0,
+            SolverSettings(scheme="weno5"),
+            progress=False,
+            dtype=torch.float64,
+        )
         exact = (t_star - t0).clamp(min=0)
         # states whose optimal path stays inside the grid and is reached before the horizon, away from
         # the switching curve x = −v|v|/2 where T* has a kink (there the error is first order)
@@ -94,7 +106,9 @@ def test_double_integrator_minimum_time_function():
 def test_dubins_car_ttr_on_the_heading_aligned_slice():
     """Facing the goal, the fastest way in is to accelerate to v_max and cruise: a closed form in (d, v0)."""
     car = DubinsCar4D(v_max=1.0, a_min=-1.0, a_max=1.0, omega_max=1.5)
-    grid = Grid((-2.4, -2.4, 0.0, -math.pi), (2.4, 2.4, 1.0, math.pi), (33, 33, 5, 16), (False, False, False, True))
+    grid = Grid(
+        (-2.4, -2.4, 0.0, -math.pi), (2.4, 2.4, 1.0, math.pi), (33, 33, 5, 16), (False, False, False, True)
+    )
     radius = 0.3
     ttr = general_ttr(car, grid, radius, 3.0, SolverSettings(scheme="eno2"), stall_time=None, progress=False)
     xs, vs = grid.axis(0), grid.axis(2)

@@ -36,13 +36,23 @@ def _car_brute_force(state, grad, mode):
         for w in _inputs(-CAR.omega_max, CAR.omega_max):
             f = CAR.velocity(state, (a.reshape(1), w.reshape(1)))
             value = sum(p * fi for p, fi in zip(grad, f))
-            best = value if best is None else (torch.maximum(best, value) if mode == "max" else torch.minimum(best, value))
+            best = (
+                value
+                if best is None
+                else (torch.maximum(best, value) if mode == "max" else torch.minimum(best, value))
+            )
     return best
 
 
 @settings(max_examples=30, deadline=None)
-@given(x=finite, y=finite, v=st.sampled_from([0.0, 0.3, 1.0]), th=st.floats(-math.pi, math.pi),
-       p=st.tuples(finite, finite, finite, finite), mode=st.sampled_from(["min", "max"]))
+@given(
+    x=finite,
+    y=finite,
+    v=st.sampled_from([0.0, 0.3, 1.0]),
+    th=st.floats(-math.pi, math.pi),
+    p=st.tuples(finite, finite, finite, finite),
+    mode=st.sampled_from(["min", "max"]),
+)
 def test_car_hamiltonian_and_optimal_control_match_brute_force(x, y, v, th, p, mode):
     car = DubinsCar4D(CAR.v_max, CAR.a_min, CAR.a_max, CAR.omega_max, control_mode=mode)
     state, grad = _t(x, y, v, th), _t(*p)
@@ -84,8 +94,9 @@ def test_human_robot_hamiltonian_is_the_max_min_over_robot_and_human_inputs(px, 
     assert float(sum(gi * fi for gi, fi in zip(grad, f))) == pytest.approx(h, abs=1e-9)
     bounds = HUMAN.partial_max_magnitudes(state)
     for w in (-HUMAN.omega_max, HUMAN.omega_max):
-        f = HUMAN.velocity(state, (torch.zeros(1, dtype=torch.float64), torch.tensor([w], dtype=torch.float64)),
-                           (betas,))
+        f = HUMAN.velocity(
+            state, (torch.zeros(1, dtype=torch.float64), torch.tensor([w], dtype=torch.float64)), (betas,)
+        )
         for fi, bound in zip(f, bounds):
             assert float(fi.abs().max()) <= float(torch.as_tensor(bound).max()) + 1e-12
 

@@ -15,8 +15,12 @@ from navlab.reach.grid import Grid
 
 @pytest.mark.parametrize("name", sorted(SCHEMES))
 @settings(max_examples=15, deadline=None)
-@given(slope=st.floats(-5, 5), offset=st.floats(-5, 5), dim=st.integers(0, 2),
-       shape=st.tuples(st.integers(3, 9), st.integers(3, 9), st.integers(3, 9)))
+@given(
+    slope=st.floats(-5, 5),
+    offset=st.floats(-5, 5),
+    dim=st.integers(0, 2),
+    shape=st.tuples(st.integers(3, 9), st.integers(3, 9), st.integers(3, 9)),
+)
 def test_linear_functions_are_differentiated_exactly_up_to_the_boundary(name, slope, offset, dim, shape):
     grid = Grid((-1.0, 0.0, 2.0), (1.0, 3.0, 4.0), shape, (False, False, False))
     values = (slope * grid.mesh(dim, dtype=torch.float64) + offset).expand(shape).contiguous()
@@ -52,8 +56,14 @@ def test_one_sided_derivatives_see_their_own_side_of_a_kink(name):
 
 def test_ghost_cells_wrap_periodic_axes_and_extrapolate_the_others():
     values = torch.tensor([[1.0, 2.0, 4.0], [3.0, 5.0, 9.0]])
-    assert pad(values, 1, 2, True).tolist() == [[2.0, 4.0, 1.0, 2.0, 4.0, 1.0, 2.0], [5.0, 9.0, 3.0, 5.0, 9.0, 3.0, 5.0]]
-    assert pad(values, 1, 2, False).tolist() == [[-1.0, 0.0, 1.0, 2.0, 4.0, 6.0, 8.0], [-1.0, 1.0, 3.0, 5.0, 9.0, 13.0, 17.0]]
+    assert pad(values, 1, 2, True).tolist() == [
+        [2.0, 4.0, 1.0, 2.0, 4.0, 1.0, 2.0],
+        [5.0, 9.0, 3.0, 5.0, 9.0, 3.0, 5.0],
+    ]
+    assert pad(values, 1, 2, False).tolist() == [
+        [-1.0, 0.0, 1.0, 2.0, 4.0, 6.0, 8.0],
+        [-1.0, 1.0, 3.0, 5.0, 9.0, 13.0, 17.0],
+    ]
 
 
 def test_unknown_scheme_names_the_choices():

@@ -31,8 +31,9 @@ def max_rate(alphas, grid: Grid) -> float:
     return float(torch.as_tensor(rate).max())
 
 
-def lax_friedrichs_numerical_hamiltonian(dynamics, grid: Grid, state, values: torch.Tensor, alphas,
-                                         scheme: str) -> torch.Tensor:
+def lax_friedrichs_numerical_hamiltonian(
+    dynamics, grid: Grid, state, values: torch.Tensor, alphas, scheme: str
+) -> torch.Tensor:
     """Ĥ at every grid point: the right-hand side of ∂V/∂τ = H, one axis at a time."""
     left_right = finite_difference_scheme(scheme).left_right
     central, dissipation = [], None

@@ -35,7 +35,10 @@ def box_optimum(p: torch.Tensor, lo, hi, mode: Mode) -> torch.Tensor:
 
 
 def box_argopt(p: torch.Tensor, lo, hi, mode: Mode) -> torch.Tensor:
-    lo, hi = torch.as_tensor(lo, dtype=p.dtype, device=p.device), torch.as_tensor(hi, dtype=p.dtype, device=p.device)
+    lo, hi = (
+        torch.as_tensor(lo, dtype=p.dtype, device=p.device),
+        torch.as_tensor(hi, dtype=p.dtype, device=p.device),
+    )
     return torch.where((p > 0) == (mode == "max"), hi, lo)
 
 
@@ -112,8 +115,12 @@ class DubinsCar4D(Dynamics):
     def partial_max_magnitudes(self, state):
         _, _, v, theta = state
         lo, hi = self.acceleration_bounds(v)
-        return [(v * torch.cos(theta)).abs(), (v * torch.sin(theta)).abs(), torch.maximum(lo.abs(), hi.abs()),
-                self.omega_max]
+        return [
+            (v * torch.cos(theta)).abs(),
+            (v * torch.sin(theta)).abs(),
+            torch.maximum(lo.abs(), hi.abs()),
+            self.omega_max,
+        ]
 
     def optimal_control(self, state, grad):
         _, _, v, _ = state
@@ -150,9 +157,13 @@ class HumanRobotRelative(Dynamics):
 
     def __post_init__(self):
         _check_mode("control_mode", self.control_mode)
-        if not (self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0 and self.human_speed >= 0):
-            raise ValueError(f"HumanRobotRelative needs v_max > 0, a_min < 0 < a_max, omega_max > 0, "
-                             f"human_speed >= 0; got {self}")
+        if not (
+            self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0 and self.human_speed >= 0
+        ):
+            raise ValueError(
+                f"HumanRobotRelative needs v_max > 0, a_min < 0 < a_max, omega_max > 0, "
+                f"human_speed >= 0; got {self}"
+            )
 
     def _car(self) -> DubinsCar4D:
         return DubinsCar4D(self.v_max, self.a_min, self.a_max, self.omega_max, self.control_mode)
@@ -171,8 +182,11 @@ class HumanRobotRelative(Dynamics):
     def partial_max_magnitudes(self, state):
         px, py, v = state
         lo, hi = self._car().acceleration_bounds(v)
-        return [self.omega_max * py.abs() + v + self.human_speed, self.omega_max * px.abs() + self.human_speed,
-                torch.maximum(lo.abs(), hi.abs())]
+        return [
+            self.omega_max * py.abs() + v + self.human_speed,
+            self.omega_max * px.abs() + self.human_speed,
+            torch.maximum(lo.abs(), hi.abs()),
+        ]
 
     def optimal_control(self, state, grad):
         px, py, v = state

@@ -7,8 +7,8 @@ then the optional convergence test on the band near the zero level set, then the
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 import torch
@@ -20,7 +20,7 @@ from navlab.reach.artificial_dissipation import (
     max_rate,
 )
 from navlab.reach.grid import Grid
-from navlab.reach.settings import SolverSettings
+from navlab.reach.settings import DEFAULT_SETTINGS, SolverSettings
 from navlab.reach.time_integration import RUNGE_KUTTA
 
 # on_step(tau, dt, previous, values) -> True to stop; ``previous`` are the values before the step.
@@ -30,7 +30,7 @@ StepHook = Callable[[float, float, torch.Tensor, torch.Tensor], bool]
 @dataclass
 class Solution:
     values: torch.Tensor  # V at the last time reached
-    snapshots: Optional[torch.Tensor]  # V at each requested time (len(times), *shape) when times were given
+    snapshots: torch.Tensor | None  # V at each requested time (len(times), *shape) when times were given
     time: float  # the last τ reached
     steps: int
     converged: bool  # stopped by the band test or by on_step before the horizon
@@ -44,28 +44,37 @@ def _times(times) -> tuple[np.ndarray, bool]:
         return np.array([horizon]), False
     ts = np.asarray(times, dtype=float)
     if ts.ndim != 1 or len(ts) == 0 or ts[0] < 0 or np.any(np.diff(ts) <= 0):
-        raise ValueError(f"solve: times must be a non-empty increasing sequence of times to go >= 0, got {times!r}")
+        raise ValueError(
+            f"solve: times must be a non-empty increasing sequence of times to go >= 0, got {times!r}"
+        )
     return ts, True
 
 
-def _band_rate(previous: torch.Tensor, values: torch.Tensor, dt: float, band: float) -> float:
-    """max |∂V/∂τ| over the states near the zero level set (|V| < band)."""
-    change = (values - previous).abs_()
+def _band_change(reference: torch.Tensor, values: torch.Tensor, band: float, tube_target) -> float:
+    """max |ΔV| since ``reference`` over the states near the zero level set (|V| < band).
+
+    In a tube, states with l ≤ 0 are in it for good (V ≤ l), so their values cannot move the set's
+    boundary and are left out: otherwise cells deep in a wall at the grid's border, where the ghost
+    cells keep stirring the value, would hold the test open.
+    """
+    change = (values - reference).abs_()
     change.masked_fill_(values.abs() >= band, 0.0)
-    return float(change.max()) / dt
+    if tube_target is not None:
+        change.masked_fill_(tube_target <= 0, 0.0)
+    return float(change.max())
 
 
 def solve(
     dynamics,
     grid: Grid,
     initial_values,
-    times: Union[float, Sequence[float]],
-    settings: SolverSettings = SolverSettings(),
+    times: float | Sequence[float],
+    settings: SolverSettings = DEFAULT_SETTINGS,
     *,
-    device: Union[str, torch.device] = "cpu",
+    device: str | torch.device = "cpu",
     dtype: torch.dtype = torch.float32,
     progress: bool = True,
-    on_step: Optional[StepHook] = None,
+    on_step: StepHook | None = None,
     compile: bool = False,
 ) -> Solution:
     """Solve the HJ(I) PDE for ``dynamics`` on ``grid`` starting from V(·, 0) = ``initial_values`` (= l).
@@ -98,10 +107,20 @@ def solve(
     if compile:
         rate = torch.compile(rate, dynamic=False)
 
-    snapshots = torch.empty((len(targets), *grid.shape), dtype=dtype, device=device) if keep_snapshots else None
+    snapshots = (
+        torch.empty((len(targets), *grid.shape), dtype=dtype, device=device) if keep_snapshots else None
+    )
     tau, steps, next_target, converged = 0.0, 0, 0, False
-    bar = tqdm(total=horizon, disable=not progress, unit="s", desc=f"HJ {type(dynamics).__name__}",
-               bar_format="{l_bar}{bar}| τ={n:.2f}/{total:.2f} s [{elapsed}<{remaining}]")
+    band_reference, band_reference_time = None, 0.0
+    if settings.convergence_band is not None:
+        band_reference = values.clone()
+    bar = tqdm(
+        total=horizon,
+        disable=not progress,
+        unit="s",
+        desc=f"HJ {type(dynamics).__name__}",
+        bar_format="{l_bar}{bar}| τ={n:.2f}/{total:.2f} s [{elapsed}<{remaining}]",
+    )
     with torch.no_grad():
         while True:
             while next_target < len(targets) and targets[next_target] <= tau + 1e-9 * max(horizon, 1.0):
@@ -117,10 +136,12 @@ def solve(
             tau += dt
             steps += 1
             bar.update(dt)
-            if settings.convergence_band is not None:
-                band_rate = _band_rate(values, new_values, dt, settings.convergence_band)
-                bar.set_postfix(band_rate=f"{band_rate:.2e}", refresh=False)
-                converged = band_rate < settings.convergence_tolerance
+            if band_reference is not None and tau - band_reference_time >= settings.convergence_window:
+                change = _band_change(band_reference, new_values, settings.convergence_band, tube_target)
+                bar.set_postfix(band_change=f"{change:.1e}", refresh=False)
+                converged = change < settings.convergence_tolerance
+                band_reference.copy_(new_values)
+                band_reference_time = tau
             if on_step is not None and on_step(tau, dt, values, new_values):
                 converged = True
             values = new_values

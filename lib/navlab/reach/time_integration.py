@@ -6,7 +6,7 @@ steps, so they keep the monotonicity of the Lax-Friedrichs scheme under the same
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import torch
 
