@@ -51,7 +51,7 @@ def _peak_rss_bytes() -> int:
 
 # --------------------------------------------------------------------------- workers (subprocesses)
 
-def torch_worker(failure: np.ndarray, device: str) -> tuple[np.ndarray, list[float], dict]:
+def torch_worker(failure: np.ndarray, device: str, compile: bool) -> tuple[np.ndarray, list[float], dict]:
     import torch
 
     from navlab.reach.dynamics import DubinsCar4D
@@ -68,7 +68,7 @@ def torch_worker(failure: np.ndarray, device: str) -> tuple[np.ndarray, list[flo
             torch.cuda.synchronize()
             torch.cuda.reset_peak_memory_stats()
         start = time.perf_counter()
-        sol = avoid_tube(car, grid, failure, HORIZON, settings, device=device, progress=False)
+        sol = avoid_tube(car, grid, failure, HORIZON, settings, device=device, progress=False, compile=compile)
         values = sol.values.cpu().numpy()
         times.append(time.perf_counter() - start)
     peak = (torch.cuda.max_memory_allocated() if device.startswith("cuda") else _peak_rss_bytes() - base)
@@ -76,7 +76,8 @@ def torch_worker(failure: np.ndarray, device: str) -> tuple[np.ndarray, list[flo
                            "memory": "CUDA max allocated" if device.startswith("cuda") else "RSS growth"}
 
 
-def jax_worker(failure: np.ndarray, device: str) -> tuple[np.ndarray, list[float], dict]:
+def jax_worker(failure: np.ndarray, device: str, compile: bool) -> tuple[np.ndarray, list[float], dict]:
+    del compile  # hj_reachability always jit-compiles the whole solve
     os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
     import hj_reachability as hj
     import jax
@@ -129,9 +130,9 @@ def jax_worker(failure: np.ndarray, device: str) -> tuple[np.ndarray, list[float
                            "memory": "JAX peak bytes in use" if "peak_bytes_in_use" in stats else "RSS growth"}
 
 
-def _worker_main(kind: str, inp: str, out: str, device: str) -> None:
+def _worker_main(kind: str, inp: str, out: str, device: str, compile: str) -> None:
     failure = np.load(inp)
-    values, times, info = (torch_worker if kind == "torch" else jax_worker)(failure, device)
+    values, times, info = (torch_worker if kind == "torch" else jax_worker)(failure, device, compile == "1")
     np.save(out, values.astype(np.float32))
     Path(out).with_suffix(".json").write_text(json.dumps({"times": times, **info}))
 
@@ -165,7 +166,7 @@ def compare(ours: np.ndarray, ref: np.ndarray) -> dict:
             "mean_dv": float(diff.mean()), "max_dv_all": float(diff.max()), "smooth_fraction": float(smooth.mean())}
 
 
-def run_pair(shape, torch_device: str, jax_device: str, jax_python: str, workdir: Path) -> dict:
+def run_pair(shape, torch_device: str, jax_device: str, jax_python: str, workdir: Path, compile: bool) -> dict:
     failure = _failure_values(shape)
     inp = workdir / f"l_{'x'.join(map(str, shape))}.npy"
     np.save(inp, failure)
@@ -173,7 +174,8 @@ def run_pair(shape, torch_device: str, jax_device: str, jax_python: str, workdir
     for kind, python, device in (("torch", sys.executable, torch_device), ("jax", jax_python, jax_device)):
         out = workdir / f"{kind}_{inp.stem}.npy"
         env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-        subprocess.run([python, __file__, "--worker", kind, str(inp), str(out), device], check=True, env=env)
+        subprocess.run([python, __file__, "--worker", kind, str(inp), str(out), device, str(int(compile))],
+                       check=True, env=env)
         results[kind] = {"values": np.load(out), **json.loads(out.with_suffix(".json").read_text())}
     agreement = compare(results["torch"]["values"], results["jax"]["values"])
     return {"shape": list(shape), "torch": {k: v for k, v in results["torch"].items() if k != "values"},
@@ -187,8 +189,9 @@ def main(argv=None) -> int:
     parser.add_argument("--torch-device", default="cpu")
     parser.add_argument("--jax-device", default="cpu", help="cpu or gpu")
     parser.add_argument("--jax-python", default=sys.executable, help="python of the environment with hj_reachability")
+    parser.add_argument("--compile", action="store_true", help="navlab: torch.compile the numerical Hamiltonian")
     parser.add_argument("--json", default=None, help="also write the results here")
-    parser.add_argument("--worker", nargs=4, metavar=("KIND", "IN", "OUT", "DEVICE"), help=argparse.SUPPRESS)
+    parser.add_argument("--worker", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
         _worker_main(*args.worker)
@@ -197,7 +200,7 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for s in args.shapes:
             shape = tuple(int(n) for n in s.split("x"))
-            r = run_pair(shape, args.torch_device, args.jax_device, args.jax_python, Path(tmp))
+            r = run_pair(shape, args.torch_device, args.jax_device, args.jax_python, Path(tmp), args.compile)
             rows.append(r)
             t, j = r["torch"], r["jax"]
             print(f"grid {s}: navlab torch ({args.torch_device}) {t['times'][-1]:.2f} s "

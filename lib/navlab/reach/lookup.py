@@ -151,7 +151,7 @@ class _Lookup:
     def _interp(self, points):
         if isinstance(points, torch.Tensor):
             if points.device not in self._tensors:
-                self._tensors[points.device] = torch.as_tensor(np.asarray(self.stored.values), device=points.device)
+                self._tensors[points.device] = torch.from_numpy(np.array(self.stored.values)).to(points.device)
             return interpolate_torch(self._tensors[points.device], self.grid, points)
         return interpolate(self.stored.values, self.grid, points)
 

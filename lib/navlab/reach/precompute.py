@@ -122,7 +122,8 @@ def static_brt_spec(params: Params, room_name: str) -> GridSpec:
 
         b = g.static_brt
         sol = static_brt(room_obstacle_distance(room, grid), _car(params), grid, robot_radius=g.robot.radius_m,
-                         max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance, settings=_settings(params),
+                         max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
+                         settings=_settings(params),
                          device=device, progress=progress)
         return sol.values, {"converged": bool(sol.converged), "time_s": float(sol.time), "steps": int(sol.steps)}
 

@@ -48,7 +48,7 @@ def heuristic_contours(room: Room, fields: dict[str, tuple[np.ndarray, np.ndarra
 
 def brt_slices(room: Room, values: np.ndarray, grid, speeds, theta: float, speed_slice):
     """Fig. 3: the static BRT {V < 0} at heading ``theta`` for several speeds (it grows with speed)."""
-    th_idx = int(round((theta - grid.lo[3]) / grid.spacing[3])) % grid.shape[3]
+    th_idx = round((theta - grid.lo[3]) / grid.spacing[3]) % grid.shape[3]
     X, Y = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
     fig, axes = plt.subplots(1, len(speeds) + 1, figsize=(3.6 * (len(speeds) + 1), 2.6), constrained_layout=True)
     colors = plt.cm.plasma(np.linspace(0.1, 0.85, len(speeds)))

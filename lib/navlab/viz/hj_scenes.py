@@ -6,7 +6,6 @@ above a point shows for which headings that position is already doomed), over th
 
 from __future__ import annotations
 
-
 import numpy as np
 from skimage.measure import marching_cubes
 

@@ -56,8 +56,9 @@ class StaticBRTGridParams:
 
     shape: tuple[int, ...] = between(2, length=4)  # (x, y, v, θ)
     horizon_s: float = between(0.1, 120.0)  # the most we march; convergence usually stops it earlier
-    band_m: float = between(0.001, 10.0)  # convergence test on the states with |V| < band_m ...
-    tolerance: float = between(1e-6, 1.0)  # ... whose values change slower than this (m/s)
+    band_m: float = between(0.001, 10.0)  # converged when the values with |V| < band_m ...
+    tolerance_m: float = between(1e-6, 1.0)  # ... move by less than this ...
+    window_s: float = between(0.01, 10.0)  # ... over this much horizon
 
 
 @dataclass(frozen=True)
