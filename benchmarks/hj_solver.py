@@ -191,6 +191,7 @@ def main(argv=None) -> int:
     parser.add_argument("--jax-python", default=sys.executable, help="python of the environment with hj_reachability")
     parser.add_argument("--compile", action="store_true", help="navlab: torch.compile the numerical Hamiltonian")
     parser.add_argument("--json", default=None, help="also write the results here")
+    parser.add_argument("--keep", default=None, help="keep the inputs and both solutions (.npy) in this folder")
     parser.add_argument("--worker", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
@@ -198,9 +199,11 @@ def main(argv=None) -> int:
         return 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(args.keep or tmp)
+        workdir.mkdir(parents=True, exist_ok=True)
         for s in args.shapes:
             shape = tuple(int(n) for n in s.split("x"))
-            r = run_pair(shape, args.torch_device, args.jax_device, args.jax_python, Path(tmp), args.compile)
+            r = run_pair(shape, args.torch_device, args.jax_device, args.jax_python, workdir, args.compile)
             rows.append(r)
             t, j = r["torch"], r["jax"]
             print(f"grid {s}: navlab torch ({args.torch_device}) {t['times'][-1]:.2f} s "
