@@ -6,8 +6,9 @@ distance minus the robot radius), avoid BRT over 3 s, WENO5 + TVD-RK3 + Lax-Frie
 float32, V = min(V, l) after every step (the tube), linear-extrapolation ghost cells — the same on both
 sides. Dissipation: hj_reachability's default ``global_lax_friedrichs`` bounds the gradient globally but
 evaluates α(x) at every state, which for this car (α independent of the gradient) is navlab's
-``dissipation="local"``; with it both solvers agree to float32 round-off. Each solver runs in its own subprocess (so peak memory is its own): twice, the first run paying
-JIT compilation / warm-up, and the second is the time compared. Printed: time, peak memory, agreement
+``dissipation="local"``; with it both solvers agree to float32 round-off. Each solver runs in its own
+subprocess (so peak memory is its own): twice, the first run paying JIT compilation / warm-up, and the
+second is the time compared. Printed: time, peak memory, agreement
 (IoU of the zero sublevel sets, max |ΔV| away from kinks) and the speed ratio (target >= 3x, IoU > 0.99).
 
 hj_reachability is not a navlab dependency. Install it in its own environment and point --jax-python at
