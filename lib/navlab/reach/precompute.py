@@ -43,7 +43,7 @@ class GridSpec:
     name: str
     grid: Grid
     inputs: dict[str, Any]
-    solve: Callable[[str | torch.device, bool], tuple[Any, dict]]  # (device, progress) -> (values, info)
+    solve: Callable[[torch.device, bool, bool], tuple[Any, dict]]  # (device, progress, compile) -> (values, info)
 
 
 def _asdict(section) -> dict[str, Any]:
@@ -88,11 +88,11 @@ def ttr_spec(params: Params) -> GridSpec:
     inputs = {"format": FORMAT, "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
 
-    def solve(device, progress):
+    def solve(device, progress, compile):
         from navlab.reach.value_functions import general_ttr
 
         values = general_ttr(_car(params), grid, g.ttr.goal_radius_m, g.ttr.horizon_s, _settings(params),
-                             stall_time=g.ttr.stall_s, device=device, progress=progress)
+                             stall_time=g.ttr.stall_s, device=device, progress=progress, compile=compile)
         return values, {"unreached_fraction": float((values >= g.ttr.horizon_s).float().mean())}
 
     return GridSpec("ttr", grid, inputs, solve)
@@ -117,14 +117,13 @@ def static_brt_spec(params: Params, room_name: str) -> GridSpec:
               "solver": _asdict(g.solver), "static_brt": _asdict(g.static_brt),
               "room": json_ready(dataclasses.asdict(room))}
 
-    def solve(device, progress):
+    def solve(device, progress, compile):
         from navlab.reach.value_functions import static_brt
 
         b = g.static_brt
         sol = static_brt(room_obstacle_distance(room, grid), _car(params), grid, robot_radius=g.robot.radius_m,
                          max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
-                         settings=_settings(params),
-                         device=device, progress=progress)
+                         settings=_settings(params), device=device, progress=progress, compile=compile)
         return sol.values, {"converged": bool(sol.converged), "time_s": float(sol.time), "steps": int(sol.steps)}
 
     return GridSpec(f"static_brt_{room_name}", grid, inputs, solve)
@@ -145,11 +144,12 @@ def human_brt_spec(params: Params) -> GridSpec:
     inputs = {"format": FORMAT, "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
 
-    def solve(device, progress):
+    def solve(device, progress, compile):
         from navlab.reach.value_functions import human_brt
 
         values = human_brt(_relative(params), grid, collision_radius=g.robot.radius_m + g.human.radius_m,
-                           horizon=h.horizon_s, settings=_settings(params), device=device, progress=progress)
+                           horizon=h.horizon_s, settings=_settings(params), device=device, progress=progress,
+                           compile=compile)
         return values, {}
 
     return GridSpec("human_brt", grid, inputs, solve)
@@ -164,9 +164,16 @@ def grid_path(artifacts_dir: str | Path, name: str) -> Path:
 
 
 def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Path, *,
-                   device: str | torch.device = "cpu", progress: bool = True, log=print) -> list[Path]:
-    """Artefact step ``hj_grids``: solve and store every value function whose file is not current."""
+                   device: str | torch.device | None = None, progress: bool = True, log=print) -> list[Path]:
+    """Artefact step ``hj_grids``: solve and store every value function whose file is not current.
+
+    ``device``: default ``hj.grids.device``; on CUDA the numerical Hamiltonian is fused (torch.compile).
+    """
     del data_dir  # rooms are analytic geometry; nothing is read from data/
+    device = torch.device(device or params.hj.grids.device)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"hj.grids.device = 'cuda' ({params.profile} profile) but torch sees no GPU; "
+                         f"set it to cpu in params.yaml or run on a machine with one")
     out = []
     for spec in specs(params):
         path = grid_path(artifacts_dir, spec.name)
@@ -174,7 +181,7 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
             log(f"[hj_grids] {spec.name}: up to date ({path})")
         else:
             start = time.perf_counter()
-            values, info = spec.solve(device, progress)
+            values, info = spec.solve(device, progress, device.type == "cuda")
             info["solve_seconds"] = round(time.perf_counter() - start, 3)
             save_grid(path, _to_numpy(values).astype(np.float32), spec.grid, spec.inputs, info=info)
             log(f"[hj_grids] {spec.name}: {spec.grid.shape} solved in {time.perf_counter() - start:.1f} s -> {path}")

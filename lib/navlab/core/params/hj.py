@@ -72,6 +72,7 @@ class HumanBRTGridParams:
 
 @dataclass(frozen=True)
 class GridsParams:
+    device: Literal["cpu", "cuda"]  # where the hj_grids stage solves (not part of a grid's identity)
     robot: RobotParams
     human: HumanParams
     solver: SolverParams
