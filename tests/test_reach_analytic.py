@@ -13,6 +13,7 @@ from navlab.reach.dynamics import (
 )
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
+from navlab.reach.solver import solve
 from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
 from reach_support import single_thread  # noqa: F401
 
@@ -126,3 +127,28 @@ def test_dubins_car_ttr_on_the_heading_aligned_slice():
             assert -0.05 <= error  # never optimistic by more than the margin: usable as a heuristic - 0.05
             worst = max(worst, abs(error))
     assert worst < 0.25
+
+
+def test_bad_inputs_stop_with_a_message_naming_the_fix():
+    grid = _square(11, 1.0)
+    with pytest.raises(ValueError, match="shape"):
+        solve(SingleIntegrator(1.0), grid, torch.zeros(10, 11), 1.0, progress=False)
+    with pytest.raises(ValueError, match="NaN"):
+        solve(SingleIntegrator(1.0), grid, torch.full((11, 11), float("nan")), 1.0, progress=False)
+    with pytest.raises(ValueError, match="increasing"):
+        solve(SingleIntegrator(1.0), grid, torch.zeros(11, 11), [1.0, 0.5], progress=False)
+    with pytest.raises(ValueError, match="rk_order"):
+        SolverSettings(rk_order=4)
+    with pytest.raises(ValueError, match="control_mode='min'"):
+        time_to_reach(SingleIntegrator(1.0, control_mode="max"), grid, torch.zeros(11, 11), 1.0, progress=False)
+
+
+def test_float64_and_snapshots_at_requested_times():
+    grid = _square(41, 2.0)
+    r = torch.sqrt(grid.mesh(0, dtype=torch.float64) ** 2 + grid.mesh(1, dtype=torch.float64) ** 2)
+    solution = solve(SingleIntegrator(1.0), grid, r - 0.5, [0.0, 0.25, 0.5], dtype=torch.float64, progress=False)
+    assert solution.snapshots.dtype == torch.float64 and solution.snapshots.shape == (3, 41, 41)
+    assert solution.time == pytest.approx(0.5)
+    far = r > 1.2
+    for tau, values in zip([0.0, 0.25, 0.5], solution.snapshots):
+        assert torch.allclose(values[far], (r - 0.5 - tau)[far], atol=0.02)

@@ -104,7 +104,7 @@ def solve(
     def rate(v):
         return lax_friedrichs_numerical_hamiltonian(dynamics, grid, state, v, alphas, settings.scheme)
 
-    if compile:
+    if compile:  # the Hamiltonian is where the time goes; compiling the whole step only compiles longer
         rate = torch.compile(rate, dynamic=False)
 
     snapshots = (

@@ -13,25 +13,26 @@ import torch
 Rate = Callable[[torch.Tensor], torch.Tensor]
 
 
-def euler_step(rate: Rate, values: torch.Tensor, dt: float) -> torch.Tensor:
-    return values + dt * rate(values)
+def euler_step(rate: Rate, values: torch.Tensor, dt) -> torch.Tensor:
+    """``dt``: a float or a 0-d tensor (a tensor keeps a compiled step from recompiling per dt)."""
+    return values + rate(values).mul_(dt)
 
 
-def first_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt: float):
+def first_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt):
     return euler_step(rate, values, dt)
 
 
-def second_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt: float):
+def second_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt):
     stage = euler_step(rate, values, dt)
-    stage.add_(rate(stage), alpha=dt)
+    stage.add_(rate(stage).mul_(dt))
     return stage.mul_(0.5).add_(values, alpha=0.5)
 
 
-def third_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt: float):
+def third_order_total_variation_diminishing_runge_kutta(rate: Rate, values: torch.Tensor, dt):
     stage = euler_step(rate, values, dt)
-    stage.add_(rate(stage), alpha=dt)
+    stage.add_(rate(stage).mul_(dt))
     stage.mul_(0.25).add_(values, alpha=0.75)
-    stage.add_(rate(stage), alpha=dt)
+    stage.add_(rate(stage).mul_(dt))
     return stage.mul_(2 / 3).add_(values, alpha=1 / 3)
 
 

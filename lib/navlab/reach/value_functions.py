@@ -53,15 +53,16 @@ def time_to_reach(
     )
     target = torch.as_tensor(target_values, dtype=dtype).to(device)
     ttr = torch.where(target <= 0, torch.zeros_like(target), torch.full_like(target, float("inf")))
-    last_growth = [0.0]
+    last_growth = 0.0
+    first_entry = torch.compile(_first_entry, dynamic=False) if compile else _first_entry
 
     def record_first_entry(tau, dt, previous, values):
-        entered = (values <= 0) & torch.isinf(ttr)
-        if bool(entered.any()):
-            fraction = (previous / (previous - values).clamp(min=1e-12)).clamp_(0, 1)
-            ttr.copy_(torch.where(entered, tau - dt + fraction * dt, ttr))
-            last_growth[0] = tau
-        return stall_time is not None and tau - last_growth[0] > stall_time
+        nonlocal ttr, last_growth
+        start, step = (torch.tensor(t, dtype=dtype, device=device) for t in (tau - dt, dt))
+        ttr, any_entered = first_entry(ttr, previous, values, start, step)
+        if bool(any_entered):
+            last_growth = tau
+        return stall_time is not None and tau - last_growth > stall_time
 
     solve(
         dynamics,
@@ -76,6 +77,13 @@ def time_to_reach(
         on_step=record_first_entry,
     )
     return ttr.clamp_(max=horizon)
+
+
+def _first_entry(ttr, previous, values, step_start, dt):
+    """TTR with the states that crossed V ≤ 0 in this step filled in (crossing time interpolated)."""
+    entered = (values <= 0) & torch.isinf(ttr)
+    fraction = (previous / (previous - values).clamp(min=1e-12)).clamp(0, 1)
+    return torch.where(entered, step_start + fraction * dt, ttr), entered.any()
 
 
 def general_ttr(
