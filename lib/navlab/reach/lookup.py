@@ -188,7 +188,7 @@ class StaticBRTLookup(_Lookup):
 
     def __init__(self, stored: StoredGrid):
         super().__init__(stored)
-        self.unsafe_value = float(np.min(stored.values))
+        self.unsafe_value = float(stored.meta.get("info", {}).get("min_value", np.min(stored.values)))
 
     def __call__(self, states):
         values = self._interp(states)

@@ -182,8 +182,10 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
         else:
             start = time.perf_counter()
             values, info = spec.solve(device, progress, device.type == "cuda")
-            info["solve_seconds"] = round(time.perf_counter() - start, 3)
-            save_grid(path, _to_numpy(values).astype(np.float32), spec.grid, spec.inputs, info=info)
+            values = _to_numpy(values).astype(np.float32)
+            info.update(solve_seconds=round(time.perf_counter() - start, 3), device=str(device),
+                        min_value=float(values.min()), max_value=float(values.max()))
+            save_grid(path, values, spec.grid, spec.inputs, info=info)
             log(f"[hj_grids] {spec.name}: {spec.grid.shape} solved in {time.perf_counter() - start:.1f} s -> {path}")
         out.append(path)
     return out
