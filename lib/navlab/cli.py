@@ -29,7 +29,11 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
-    return []
+    from navlab.reach.precompute import build_hj_grids
+
+    return [
+        ("hj_grids", build_hj_grids),
+    ]
 
 
 def _artifacts_build(args) -> int:
