@@ -275,9 +275,6 @@ def read_features(path: str | Path, projection: LocalProjection) -> OsmFeatures:
     return feats
 
 
-
-
-
 def _offset(xy: np.ndarray, distance: float) -> np.ndarray:
     """The polyline shifted ``distance`` metres to its left (in the y-south frame, (dy, -dx))."""
     tangent = np.gradient(xy, axis=0)

@@ -34,10 +34,10 @@ from scipy.spatial import cKDTree
 from navlab.core.io import DataError
 from navlab.core.sources import cache_dir
 from navlab.maps.network import WalkableNetwork
+from navlab.maps.osm import EARTH_RADIUS_M
 from navlab.maps.routing import Route
 
 PACKAGE, VERSION = "osrm-bindings", "26.10.0"
-EARTH_RADIUS_M = 6_371_008.8
 
 
 def osrm_home() -> Path:

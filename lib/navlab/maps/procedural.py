@@ -36,8 +36,6 @@ BUILDINGS, PARK, PARKING, ROUGH, PLAZA = range(5)  # block kinds
 BLOCK_KIND_P = (0.66, 0.14, 0.09, 0.07, 0.04)
 
 
-
-
 def street_network(rng: np.random.Generator, structure: float, size_m: float, block_range: tuple[float, float]):
     """Street centrelines (polylines), intersection vertices and which street meets which vertex."""
     disorder = 1.0 - structure
