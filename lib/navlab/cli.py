@@ -54,7 +54,11 @@ def _data_build(args) -> int:
     params = load_params(args.profile)
     data_dir = Path(args.data_dir)
     dvc_file = root / "data.dvc"
-    checked = args.data_dir == "data" and params.profile == dataset.RECORDED_PROFILE
+    # data.dvc speaks for the checkout's data/ (however --data-dir spells it) in the recorded profile only
+    checked = data_dir.resolve() == (root / "data").resolve() and params.profile == dataset.RECORDED_PROFILE
+    if args.record and not checked:  # said before a build of several minutes, not after it
+        raise DataError(f"data.dvc records {root / 'data'} built with the {dataset.RECORDED_PROFILE!r} profile; "
+                        f"rerun with --profile {dataset.RECORDED_PROFILE} and without --data-dir")
     if checked and not (args.force or args.record):
         ok, msg = dataset.verify(data_dir, dvc_file)
         if ok:
@@ -62,10 +66,7 @@ def _data_build(args) -> int:
             return 0
     dataset.build(data_dir, params, data_steps())
     if args.record:
-        if params.profile != dataset.RECORDED_PROFILE:
-            raise DataError(f"data.dvc records the {dataset.RECORDED_PROFILE!r} profile; "
-                            f"rerun with --profile {dataset.RECORDED_PROFILE}")
-        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir.resolve())], cwd=root, check=True)
         print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
         return 0
     if not checked:
