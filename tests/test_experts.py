@@ -153,3 +153,18 @@ def test_demos_step_on_the_smoke_dataset(smoke_data, smoke_params):
                 assert not _enters_hard(demo.labels_on(m.labels), demo.path.astype(float), m.frame)
                 d = np.linalg.norm(demo.goal - demo.start)
                 assert settings.min_distance_m <= d <= settings.max_distance_m
+
+
+def test_resumed_demos_step_drops_files_of_maps_it_no_longer_has(smoke_data, smoke_params, tmp_path):
+    import shutil
+
+    from navlab.surenav.experts import build_demos
+
+    copy = tmp_path / "data"
+    shutil.copytree(smoke_data, copy)
+    ghost = copy / DEMOS_DIR / "train" / "procedural_train_99.npz"  # as left by an earlier build of more maps
+    shutil.copy(next((copy / DEMOS_DIR / "train").glob("*.npz")), ghost)
+    build_demos(smoke_params, copy)  # every real map is already built: this only resumes
+    assert not ghost.exists()
+    assert sorted(md.map_name for md in load_demos(copy, "train")) == sorted(
+        m.name for m in load_maps(copy, "train"))

@@ -100,8 +100,11 @@ def build_demos(params: Params, out_dir: Path) -> None:
         maps = load_maps(out_dir, split)
         n_pairs = settings.test_pairs_per_map if split == "test" else settings.pairs_per_map
         index[split] = {}
+        folder = Path(out_dir, DEMOS_DIR, split)
+        for stale in set(folder.glob("*.npz")) - {folder / f"{m.name}.npz" for m in maps}:
+            stale.unlink()  # a resumed build over other maps: load_demos would read this file as a map's
         for semantic_map in tqdm(maps, desc=f"demos {split}", unit="map"):
-            target = Path(out_dir, DEMOS_DIR, split, f"{semantic_map.name}.npz")
+            target = folder / f"{semantic_map.name}.npz"
             fingerprint = sha256_json({"demos": settings, "graph": graph, "map": semantic_map.name,
                                        "labels": hashlib.sha256(semantic_map.labels.tobytes()).hexdigest()})
             if not _is_built(target, fingerprint):
