@@ -42,6 +42,8 @@ def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bo
     cost = np.asarray(cost, dtype=np.float64)
     if cost.ndim != 2:
         raise ValueError(f"cost must be a 2-D array, got shape {cost.shape}")
+    if np.isnan(cost).any() or np.isneginf(cost).any():  # NaN would read as blocked, -inf as a free lunch
+        raise ValueError("cost holds NaN or -inf cells; mark blocked cells with +inf")
     finite = cost[np.isfinite(cost)]
     if finite.size == 0 or finite.min() <= 0:
         raise ValueError("cost must have positive finite values where traversable (got none or <= 0)")
