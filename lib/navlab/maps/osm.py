@@ -31,6 +31,7 @@ below-ground (``layer<0``, ``location=underground``) features, so no route passe
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -102,7 +103,9 @@ class LocalProjection:
 
     def project(self, lonlat: np.ndarray) -> np.ndarray:
         lonlat = np.asarray(lonlat, dtype=np.float64).reshape(-1, 2)
-        scale = np.cos(np.radians((self.south + self.north) / 2))
+        # math.cos (libm) rather than np.cos: numpy may take a SIMD (SVML) cosine a few ulp off on some
+        # CPUs, and these metres are stored in the network files that data.dvc pins
+        scale = math.cos(math.radians((self.south + self.north) / 2))
         x = EARTH_RADIUS_M * scale * np.radians(lonlat[:, 0] - self.west)
         y = EARTH_RADIUS_M * np.radians(self.north - lonlat[:, 1])
         return np.stack([x, y], axis=1)
