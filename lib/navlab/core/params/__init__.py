@@ -86,6 +86,11 @@ def _build(cls: type, data: Any, where: str) -> Any:
         if name not in data:
             raise ParamsError(f"{key}: missing; add it to params.yaml")
         values[name] = _check(_hints(cls)[name], data[name], key, field.metadata)
+    for name, value in values.items():  # a range given as min_<x> / max_<x>: an empty one fails much later
+        upper = f"max_{name.removeprefix('min_')}"
+        if name.startswith("min_") and upper in values and value > values[upper]:
+            key = f"{where}.{name}".lstrip(".")
+            raise ParamsError(f"{key} = {value!r} exceeds {upper} = {values[upper]!r}; give min <= max")
     return cls(**values)
 
 
@@ -109,7 +114,10 @@ def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
         length = meta.get("length")
         if length is not None and len(value) != length:
             raise ParamsError(f"{key} = {value!r}: expected a list of {length} items")
-        return tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
+        items = tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
+        if meta.get("ordered") and list(items) != sorted(items):
+            raise ParamsError(f"{key} = {list(value)!r}: give [min, max] with min <= max")
+        return items
     if origin is dict:
         if not isinstance(value, dict):
             raise ParamsError(f"{key} = {value!r}: expected a mapping")
