@@ -24,11 +24,11 @@ from navlab.core.seeding import rng
 from navlab.graphs.incremental import resegment
 from navlab.graphs.region_graph import RegionGraph, build_region_graph
 from navlab.graphs.superpixels import label_consistent_slic
+from navlab.maps.dataset import SPLITS, check_split, load_maps
 from navlab.maps.semantic_map import SemanticMap
 from navlab.surenav.experts.environments import Demonstration, map_environments
 
 DEMOS_DIR = Path("surenav", "demos")
-SPLITS = ("train", "val", "test")
 KINDS = ("static", "semi_static")
 _RAGGED = {"path": np.float32, "relaxed_cells": np.int64, "relaxed_superpixels": np.int64,
            "delta_cells": np.int64, "delta_labels": np.uint8}
@@ -79,8 +79,7 @@ def save_map_demos(path: str | Path, superpixels: np.ndarray, static: list[Demon
 
 def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
     """Every map's demonstrations of one split, in map-name order."""
-    if split not in SPLITS:
-        raise ValueError(f"split {split!r}: splits are {', '.join(SPLITS)}")
+    check_split(split)
     folder = require(data_dir, DEMOS_DIR, split)
     out = []
     for path in sorted(folder.glob("*.npz")):
@@ -92,8 +91,6 @@ def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
 
 def build_demos(params: Params, out_dir: Path) -> None:
     """The `demos` data step: demonstrations on every map the `maps` step wrote into ``out_dir``."""
-    from navlab.maps.dataset import load_maps
-
     settings, graph = params.data.demos, params.surenav.graph
     index = {}
     for split in SPLITS:
