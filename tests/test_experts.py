@@ -120,6 +120,17 @@ def test_semi_static_variant_reuses_the_prefix_and_respects_the_change():
             assert visited[0] == graph.start_node and visited[-1] == graph.goal_node
 
 
+def test_a_map_too_small_for_the_pairs_is_a_data_error():
+    import dataclasses
+
+    from navlab.core.io import DataError
+
+    far = dataclasses.replace(load_params("smoke").data.demos, min_distance_m=400.0, max_distance_m=500.0)
+    m = city(160)
+    with pytest.raises(DataError, match="data.demos"):
+        map_environments(m, label_consistent_slic(m.labels, 50, 1.0), 2, far, rng(0, "far"), 1.0)
+
+
 def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
     m = city(160)
     settings = load_params("smoke").data.demos

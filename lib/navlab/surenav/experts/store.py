@@ -17,7 +17,7 @@ import numpy as np
 from tqdm import tqdm
 
 from navlab.core.dataset import require
-from navlab.core.io import DataError, load_npz, save_npz, sha256_json, write_json
+from navlab.core.io import load_npz, save_npz, sha256_json, write_json
 from navlab.core.params import Params
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
@@ -106,12 +106,9 @@ def build_demos(params: Params, out_dir: Path) -> None:
                                        "labels": hashlib.sha256(semantic_map.labels.tobytes()).hexdigest()})
             if not _is_built(target, fingerprint):
                 superpixels = label_consistent_slic(semantic_map.labels, graph.target_nodes, graph.compactness)
-                try:
-                    static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
-                                                    rng(settings.seed, "demos", split, semantic_map.name),
-                                                    graph.compactness)
-                except ValueError as err:  # too few usable start-goal pairs: a data problem, said in one line
-                    raise DataError(str(err)) from None
+                static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
+                                                rng(settings.seed, "demos", split, semantic_map.name),
+                                                graph.compactness)
                 save_map_demos(target, superpixels, static, semi, fingerprint)
             index[split][semantic_map.name] = {"static": n_pairs, "semi_static": n_pairs}
     write_json(Path(out_dir, DEMOS_DIR, "index.json"), index)
