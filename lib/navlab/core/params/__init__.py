@@ -54,16 +54,16 @@ def load_params(profile: str | None = None, path: str | Path | None = None) -> P
     return _build(Params, resolved, "")
 
 
-def resolve_profile(tree: Any, profile: str) -> Any:
+def resolve_profile(tree: Any, profile: str, where: str = "") -> Any:
     """Replace every ``{smoke:…, default:…, paper:…}`` leaf by the value for ``profile``."""
     if isinstance(tree, dict):
         if tree and set(tree) <= set(PROFILES):
             if "default" not in tree:
-                raise ParamsError(f"profile mapping {tree!r} has no 'default' value")
-            return resolve_profile(tree.get(profile, tree["default"]), profile)
-        return {k: resolve_profile(v, profile) for k, v in tree.items()}
+                raise ParamsError(f"{where or 'params.yaml'} = {tree!r}: a profile mapping needs a 'default' value")
+            return resolve_profile(tree.get(profile, tree["default"]), profile, where)
+        return {k: resolve_profile(v, profile, f"{where}.{k}".lstrip(".")) for k, v in tree.items()}
     if isinstance(tree, list):
-        return [resolve_profile(v, profile) for v in tree]
+        return [resolve_profile(v, profile, f"{where}[{i}]") for i, v in enumerate(tree)]
     return tree
 
 
