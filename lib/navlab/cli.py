@@ -125,16 +125,20 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--profile", choices=PROFILES, default=None,
                        help="parameter profile (default: the `profile` key of params.yaml)")
 
+    def folder_args(p, *names):
+        for name in names:
+            p.add_argument(f"--{name}-dir", default=name, help=f"the {name} folder (default: {name})")
+
     data = groups.add_parser("data", help="build or verify the dataset snapshot in data/")
     data_cmds = data.add_subparsers(dest="cmd", required=True)
     b = data_cmds.add_parser("build", help="build data/ from packages and seeded generators (resumable)")
     profile_arg(b)
-    b.add_argument("--data-dir", default="data", help="where to build (default: data)")
+    folder_args(b, "data")
     b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches data.dvc")
     b.add_argument("--record", action="store_true", help="record the new build in data.dvc (dvc add)")
     b.set_defaults(func=_data_build)
     v = data_cmds.add_parser("verify", help="check data/ against the digest data.dvc records")
-    v.add_argument("--data-dir", default="data")
+    folder_args(v, "data")
     v.set_defaults(func=_data_verify)
 
     art = groups.add_parser("artifacts", help="build DVC stage outputs: HJ grids, trained models")
@@ -142,8 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
     a = art_cmds.add_parser("build", help="build artefacts (all, or those named with --only)")
     profile_arg(a)
     a.add_argument("--only", action="append", metavar="STEP", help="build only this step (repeatable)")
-    a.add_argument("--data-dir", default="data")
-    a.add_argument("--artifacts-dir", default="artifacts")
+    folder_args(a, "data", "artifacts")
     a.set_defaults(func=_artifacts_build)
 
     nb = groups.add_parser("notebook", help="run notebooks headlessly with papermill")
@@ -152,15 +155,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("notebook", help="path of the notebook, e.g. notebooks/00_quickstart.ipynb")
     profile_arg(r)
     r.add_argument("--output", default=None, help="executed copy (default: artifacts/notebooks/<same path>)")
-    r.add_argument("--data-dir", default="data")
-    r.add_argument("--artifacts-dir", default="artifacts")
-    r.add_argument("--reports-dir", default="reports")
+    folder_args(r, "data", "artifacts", "reports")
     r.set_defaults(func=_notebook_run)
 
     rep = groups.add_parser("reports", help="report files")
     rep_cmds = rep.add_subparsers(dest="cmd", required=True)
     i = rep_cmds.add_parser("index", help="write reports/README.md from every report JSON")
-    i.add_argument("--reports-dir", default="reports")
+    folder_args(i, "reports")
     i.set_defaults(func=_reports_index)
 
     par = groups.add_parser("params", help="show validated parameters")
