@@ -88,7 +88,8 @@ def _build(cls: type, data: Any, where: str) -> Any:
         values[name] = _check(_hints(cls)[name], data[name], key, field.metadata)
     for name, value in values.items():  # a range given as min_<x> / max_<x>: an empty one fails much later
         upper = f"max_{name.removeprefix('min_')}"
-        if name.startswith("min_") and upper in values and value > values[upper]:
+        numbers = all(isinstance(v, int | float) for v in (value, values.get(upper)))
+        if name.startswith("min_") and upper in values and numbers and value > values[upper]:
             key = f"{where}.{name}".lstrip(".")
             raise ParamsError(f"{key} = {value!r} exceeds {upper} = {values[upper]!r}; give min <= max")
     return cls(**values)

@@ -117,5 +117,5 @@ def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs
             break
     if len(static) < n_pairs:
         raise DataError(f"{semantic_map.name}: only {len(static)} of {n_pairs} start-goal pairs have a reachable "
-                         "goal and a perturbable path; lower data.demos.pairs_per_map or check the map")
+                        "goal and a perturbable path; lower data.demos.pairs_per_map or check the map")
     return static, semi
