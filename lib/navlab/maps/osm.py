@@ -228,8 +228,10 @@ def city_projection(path: Path, city: str) -> LocalProjection:
     box = CITY_BOXES.get(city)
     if box is None:
         reader = osmium.io.Reader(str(path), osmium.osm.osm_entity_bits.NOTHING)
-        header_box = reader.header().box()
-        reader.close()
+        try:
+            header_box = reader.header().box()
+        finally:
+            reader.close()
         box = (header_box.bottom_left.lon, header_box.bottom_left.lat,
                header_box.top_right.lon, header_box.top_right.lat)
     return LocalProjection(*box)

@@ -10,6 +10,7 @@ the snapshot depends on that section as well as on ``data.demos``.
 from __future__ import annotations
 
 import hashlib
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -132,8 +133,10 @@ def demo_graph(md: MapDemos, demo: Demonstration, semantic_map: SemanticMap, gra
 
 
 def _is_built(target: Path, fingerprint: str) -> bool:
-    """A finished map file from an interrupted build with the same settings (resume)."""
-    if not target.is_file():
+    """A finished map file from an interrupted build with the same settings (resume); an unreadable
+    one is not finished, so it is rebuilt rather than stopping the build."""
+    try:
+        with np.load(target, allow_pickle=False) as npz:
+            return "fingerprint" in npz.files and str(npz["fingerprint"]) == fingerprint
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError):  # OSError covers a missing file
         return False
-    with np.load(target, allow_pickle=False) as npz:
-        return "fingerprint" in npz.files and str(npz["fingerprint"]) == fingerprint
