@@ -120,6 +120,17 @@ def test_semi_static_variant_reuses_the_prefix_and_respects_the_change():
             assert visited[0] == graph.start_node and visited[-1] == graph.goal_node
 
 
+def test_a_map_too_small_for_the_pairs_is_a_data_error():
+    import dataclasses
+
+    from navlab.core.io import DataError
+
+    far = dataclasses.replace(load_params("smoke").data.demos, min_distance_m=400.0, max_distance_m=500.0)
+    m = city(160)
+    with pytest.raises(DataError, match="data.demos"):
+        map_environments(m, label_consistent_slic(m.labels, 50, 1.0), 2, far, rng(0, "far"), 1.0)
+
+
 def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
     m = city(160)
     settings = load_params("smoke").data.demos
@@ -153,3 +164,18 @@ def test_demos_step_on_the_smoke_dataset(smoke_data, smoke_params):
                 assert not _enters_hard(demo.labels_on(m.labels), demo.path.astype(float), m.frame)
                 d = np.linalg.norm(demo.goal - demo.start)
                 assert settings.min_distance_m <= d <= settings.max_distance_m
+
+
+def test_resumed_demos_step_drops_files_of_maps_it_no_longer_has(smoke_data, smoke_params, tmp_path):
+    import shutil
+
+    from navlab.surenav.experts import build_demos
+
+    copy = tmp_path / "data"
+    shutil.copytree(smoke_data, copy)
+    ghost = copy / DEMOS_DIR / "train" / "procedural_train_99.npz"  # as left by an earlier build of more maps
+    shutil.copy(next((copy / DEMOS_DIR / "train").glob("*.npz")), ghost)
+    build_demos(smoke_params, copy)  # every real map is already built: this only resumes
+    assert not ghost.exists()
+    assert sorted(md.map_name for md in load_demos(copy, "train")) == sorted(
+        m.name for m in load_maps(copy, "train"))

@@ -57,3 +57,11 @@ def test_bad_endpoints_name_the_problem(cell, msg):
     cost[0, 0] = np.inf
     with pytest.raises(ValueError, match=msg):
         plan(cost, cell, (4, 4))
+
+
+@pytest.mark.parametrize("bad", [np.nan, -np.inf])
+def test_nan_or_minus_inf_cost_is_an_error(bad):
+    cost = np.ones((5, 5))
+    cost[2, 2] = bad
+    with pytest.raises(ValueError, match=r"NaN or -inf"):
+        plan(cost, (0, 0), (4, 4))

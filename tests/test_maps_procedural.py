@@ -143,6 +143,14 @@ def test_test_split_is_seeded_and_takes_well_mapped_tiles():
         assert all(t.sidewalk_fraction >= 0.05 and r == "human_likeness" for t, r in chosen[3:])
 
 
+def test_city_without_a_whole_tile_names_the_parameter():
+    from navlab.maps.tiles import choose_test_tiles
+
+    tiles = [t for t in _fake_tiles() if t.city != "monaco"]
+    with pytest.raises(ValueError, match="monaco: .*no whole tile.*tile_size_m"):
+        choose_test_tiles(tiles, 0.05, 2, 0)
+
+
 def test_missing_maps_raise_data_error(tmp_path):
     with pytest.raises(DataError, match="data build"):
         dataset.load_maps(tmp_path, "train")

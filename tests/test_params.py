@@ -59,3 +59,18 @@ def test_missing_key_and_bad_choice(tmp_path):
 def test_unknown_profile():
     with pytest.raises(ParamsError, match="allowed profiles"):
         load_params("huge")
+
+
+def test_reversed_ranges_name_the_keys(tmp_path):
+    path = _write(tmp_path, lambda r: r["data"]["demos"].update(min_distance_m=300.0))
+    with pytest.raises(ParamsError, match=r"^data\.demos\.min_distance_m = 300.0 exceeds max_distance_m = 200.0"):
+        load_params("smoke", path)
+    path = _write(tmp_path, lambda r: r["data"]["maps"]["procedural"].update(block_size_m=[140.0, 60.0]))
+    with pytest.raises(ParamsError, match=re.escape("data.maps.procedural.block_size_m = [140.0, 60.0]: give [min")):
+        load_params("smoke", path)
+
+
+def test_profile_mapping_without_default_names_the_key(tmp_path):
+    path = _write(tmp_path, lambda r: r["quickstart"].update(queries={"smoke": 3, "paper": 100}))
+    with pytest.raises(ParamsError, match=r"^quickstart\.queries = .*needs a 'default' value"):
+        load_params("smoke", path)

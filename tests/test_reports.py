@@ -21,3 +21,13 @@ def test_table_round_trip_markdown_and_index(tmp_path):
     index = write_index(tmp_path).read_text()
     assert "SuReNav Table I" in index and "surenav/table1_human_likeness.md" in index
     json.loads(path.read_text())
+
+
+def test_rows_with_the_same_key_are_an_error_not_a_lost_row(tmp_path):
+    import pytest
+
+    rows = [{"method": "A*", "eps": 1.0, "cost": 3.0}, {"method": "A*", "eps": 2.0, "cost": 2.5}]
+    with pytest.raises(ValueError, match="two rows share the key {'method': 'A\\*'}"):
+        write_table(tmp_path, "hj", "t", paper_ref="x", profile="smoke", seeds=[0], columns=["method", "eps", "cost"],
+                    rows=rows, paper_rows=[], notes="")
+    assert not (tmp_path / "hj").exists()

@@ -58,7 +58,11 @@ def _data_build(args) -> int:
     params = load_params(args.profile)
     data_dir = Path(args.data_dir)
     dvc_file = root / "data.dvc"
-    checked = args.data_dir == "data" and params.profile == dataset.RECORDED_PROFILE
+    # data.dvc speaks for the checkout's data/ (however --data-dir spells it) in the recorded profile only
+    checked = data_dir.resolve() == (root / "data").resolve() and params.profile == dataset.RECORDED_PROFILE
+    if args.record and not checked:  # said before a build of several minutes, not after it
+        raise DataError(f"data.dvc records {root / 'data'} built with the {dataset.RECORDED_PROFILE!r} profile; "
+                        f"rerun with --profile {dataset.RECORDED_PROFILE} and without --data-dir")
     if checked and not (args.force or args.record):
         ok, msg = dataset.verify(data_dir, dvc_file)
         if ok:
@@ -66,10 +70,7 @@ def _data_build(args) -> int:
             return 0
     dataset.build(data_dir, params, data_steps())
     if args.record:
-        if params.profile != dataset.RECORDED_PROFILE:
-            raise DataError(f"data.dvc records the {dataset.RECORDED_PROFILE!r} profile; "
-                            f"rerun with --profile {dataset.RECORDED_PROFILE}")
-        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir.resolve())], cwd=root, check=True)
         print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
         return 0
     if not checked:
@@ -128,16 +129,20 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--profile", choices=PROFILES, default=None,
                        help="parameter profile (default: the `profile` key of params.yaml)")
 
+    def folder_args(p, *names):
+        for name in names:
+            p.add_argument(f"--{name}-dir", default=name, help=f"the {name} folder (default: {name})")
+
     data = groups.add_parser("data", help="build or verify the dataset snapshot in data/")
     data_cmds = data.add_subparsers(dest="cmd", required=True)
     b = data_cmds.add_parser("build", help="build data/ from packages and seeded generators (resumable)")
     profile_arg(b)
-    b.add_argument("--data-dir", default="data", help="where to build (default: data)")
+    folder_args(b, "data")
     b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches data.dvc")
     b.add_argument("--record", action="store_true", help="record the new build in data.dvc (dvc add)")
     b.set_defaults(func=_data_build)
     v = data_cmds.add_parser("verify", help="check data/ against the digest data.dvc records")
-    v.add_argument("--data-dir", default="data")
+    folder_args(v, "data")
     v.set_defaults(func=_data_verify)
 
     art = groups.add_parser("artifacts", help="build DVC stage outputs: HJ grids, trained models")
@@ -145,8 +150,7 @@ def build_parser() -> argparse.ArgumentParser:
     a = art_cmds.add_parser("build", help="build artefacts (all, or those named with --only)")
     profile_arg(a)
     a.add_argument("--only", action="append", metavar="STEP", help="build only this step (repeatable)")
-    a.add_argument("--data-dir", default="data")
-    a.add_argument("--artifacts-dir", default="artifacts")
+    folder_args(a, "data", "artifacts")
     a.set_defaults(func=_artifacts_build)
 
     nb = groups.add_parser("notebook", help="run notebooks headlessly with papermill")
@@ -155,15 +159,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("notebook", help="path of the notebook, e.g. notebooks/00_quickstart.ipynb")
     profile_arg(r)
     r.add_argument("--output", default=None, help="executed copy (default: artifacts/notebooks/<same path>)")
-    r.add_argument("--data-dir", default="data")
-    r.add_argument("--artifacts-dir", default="artifacts")
-    r.add_argument("--reports-dir", default="reports")
+    folder_args(r, "data", "artifacts", "reports")
     r.set_defaults(func=_notebook_run)
 
     rep = groups.add_parser("reports", help="report files")
     rep_cmds = rep.add_subparsers(dest="cmd", required=True)
     i = rep_cmds.add_parser("index", help="write reports/README.md from every report JSON")
-    i.add_argument("--reports-dir", default="reports")
+    folder_args(i, "reports")
     i.set_defaults(func=_reports_index)
 
     par = groups.add_parser("params", help="show validated parameters")

@@ -74,8 +74,8 @@ def build(data_dir: str | Path, params: Params, steps: Sequence[Step], log: Call
     stamps = partial / ".steps"
     stamps.mkdir(parents=True, exist_ok=True)
     for name, step in steps:
-        fingerprint = sha256_json({"profile": params.profile, "seed": params.seed, "data": params.data,
-                                   "step": name})
+        # all of params, not only `data`: a step may read other sections too (demos read surenav.graph)
+        fingerprint = sha256_json({"params": params, "step": name})
         stamp = stamps / f"{name}.done"
         if stamp.is_file() and stamp.read_text() == fingerprint:
             log(f"[data] {name}: already built in {partial} (resuming)")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -51,6 +52,13 @@ def write_table(
         "paper": [_clean(r) for r in paper_rows],
         "notes": notes,
     }
+    keys = _key_columns(report)
+    for which in ("rows", "paper"):  # the Markdown and `metrics` pair rows by key: a repeat would vanish
+        counts = Counter(tuple(r.get(c) for c in keys) for r in report[which])
+        repeated = next((k for k, n in counts.items() if n > 1), None)
+        if repeated is not None:
+            raise ValueError(f"{table_id}: two {which} share the key {dict(zip(keys, repeated, strict=True))}; "
+                             "add a text column that tells them apart (e.g. the map or the setting)")
     report["metrics"] = _metrics_by_row(report)
     out = Path(reports_dir) / paper
     write_json(out / f"{table_id}.json", report)

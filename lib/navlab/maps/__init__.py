@@ -2,6 +2,7 @@
 
 ``osm`` rasterises OpenStreetMap extracts (``load_city``), ``procedural`` generates seeded city tiles,
 ``tiles`` cuts real cities into held-out test tiles, ``network``/``routing``/``osrm`` give walkable
-networks and pedestrian routes, ``dataset`` builds and loads data/surenav/maps, ``draw`` holds the
+networks and pedestrian routes, ``perturb`` makes the semi-static changes that block a route,
+``queries`` samples start-goal pairs, ``dataset`` builds and loads data/surenav/maps, ``draw`` holds the
 opencv drawing helpers.
 """

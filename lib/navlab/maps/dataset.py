@@ -79,19 +79,20 @@ def load_index(data_dir: str | Path) -> list[dict]:
     return json.loads(require(data_dir, *FOLDER, "index.json").read_text())["maps"]
 
 
-def _check_split(split: str) -> None:
+def check_split(split: str) -> None:
+    """A split name, or a ValueError listing the splits (maps and demonstrations share them)."""
     if split not in SPLITS:
         raise ValueError(f"split {split!r}: splits are {', '.join(SPLITS)}")
 
 
 def load_maps(data_dir: str | Path, split: str) -> list[SemanticMap]:
     """The maps of one split (train / val / test), in index order."""
-    _check_split(split)
+    check_split(split)
     return [SemanticMap.load(require(data_dir, *FOLDER, split, f"{e['name']}.npz"))
             for e in load_index(data_dir) if e["split"] == split]
 
 
 def load_network(data_dir: str | Path, split: str, name: str) -> WalkableNetwork:
     """The walkable network of one map (metres in that map's frame)."""
-    _check_split(split)
+    check_split(split)
     return WalkableNetwork.load(require(data_dir, *FOLDER, split, f"{name}.network.npz"))

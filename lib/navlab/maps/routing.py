@@ -1,10 +1,11 @@
 """Pedestrian routing over a walkable network (the role OSRM's foot profile plays in SuReNav Sec. VI-A).
 
-Routes give the subgoal sequences and the perturbation seeds of the benchmark. The router is networkx
-Dijkstra over edge lengths; start and goal snap to their nearest network nodes. Because the network
-went through ``network.restrict_to_map``, a route never enters a hard cell. ``maps.osrm`` runs OSRM
-itself over the same network (for comparison with the paper's set-up); this router is the one the
-benchmark uses, for real and procedural maps alike, since it needs no server.
+The paper takes its subgoal sequences from OSRM foot routes; this router gives the same routes without
+a server, for real and procedural maps alike (``maps.osrm`` runs OSRM itself over the same network, and
+a test checks that the two agree). The benchmark's perturbation seeds do not come from here but from
+the expert's own path (``surenav.experts.environments``). The router is networkx Dijkstra over edge
+lengths; start and goal snap to their nearest network nodes. Because the network went through
+``network.restrict_to_map``, a route never enters a hard cell.
 """
 
 from __future__ import annotations

@@ -60,7 +60,10 @@ def choose_test_tiles(tiles: list[Tile], min_sidewalk: float, extra: int, seed: 
     eligible = [t for t in tiles if t.sidewalk_fraction >= min_sidewalk]
     chosen: list[tuple[Tile, str]] = []
     for city, role in TEST_CITY_ROLES.items():
-        median = np.median([t.sidewalk_fraction for t in tiles if t.city == city] or [np.inf])
+        fractions = [t.sidewalk_fraction for t in tiles if t.city == city]
+        if not fractions:
+            raise ValueError(f"{city}: its raster holds no whole tile; lower data.maps.tile_size_m in params.yaml")
+        median = np.median(fractions)
         pool = [t for t in eligible if t.city == city and t.sidewalk_fraction >= median]
         if not pool:
             raise ValueError(f"{city}: no tile has a sidewalk fraction >= {min_sidewalk}; "

@@ -42,57 +42,60 @@ def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bo
     cost = np.asarray(cost, dtype=np.float64)
     if cost.ndim != 2:
         raise ValueError(f"cost must be a 2-D array, got shape {cost.shape}")
+    if np.isnan(cost).any() or np.isneginf(cost).any():  # NaN would read as blocked, -inf as a free lunch
+        raise ValueError("cost holds NaN or -inf cells; mark blocked cells with +inf")
     finite = cost[np.isfinite(cost)]
     if finite.size == 0 or finite.min() <= 0:
         raise ValueError("cost must have positive finite values where traversable (got none or <= 0)")
     start, goal = _check_cell("start", start, cost), _check_cell("goal", goal, cost)
     rows, cols = cost.shape
-    h_scale = float(finite.min()) * resolution
-    moves = [(dr, dc, resolution * 0.5) for dr, dc in _STRAIGHT]
+    # A border of blocked cells replaces the bounds checks; row-major flat indices keep their order, so
+    # heap ties break as on the unpadded grid. Plain lists, not numpy, in the loop: it is scalar work.
+    width = cols + 2
+    padded = np.full((rows + 2, width), np.inf)
+    padded[1:-1, 1:-1] = cost
+    flat_cost = padded.ravel().tolist()
+    moves = [(dr * width + dc, resolution * 0.5) for dr, dc in _STRAIGHT]
     if diagonal:
-        moves += [(dr, dc, resolution * 0.5 * math.sqrt(2.0)) for dr, dc in _DIAGONAL]
-    flat_cost = cost.ravel().tolist()
-    gr, gc = goal
-
-    def heuristic(r: int, c: int) -> float:
-        dr, dc = abs(r - gr), abs(c - gc)
-        if not diagonal:
-            return (dr + dc) * h_scale
-        return (max(dr, dc) + (math.sqrt(2.0) - 1.0) * min(dr, dc)) * h_scale
-
-    start_i, goal_i = start[0] * cols + start[1], goal[0] * cols + goal[1]
-    g = {start_i: 0.0}
-    parent = {start_i: -1}
-    closed = set()
-    frontier = [(heuristic(*start), 0.0, start_i)]
+        moves += [(dr * width + dc, resolution * 0.5 * math.sqrt(2.0)) for dr, dc in _DIAGONAL]
+    # octile distance (Manhattan when 4-connected) times the cheapest cost per metre: admissible
+    h_scale = float(finite.min()) * resolution
+    h_diagonal = math.sqrt(2.0) - 1.0 if diagonal else 1.0
+    gr, gc = goal[0] + 1, goal[1] + 1
+    start_i, goal_i = (start[0] + 1) * width + start[1] + 1, gr * width + gc
+    inf = math.inf
+    g = [inf] * len(flat_cost)
+    parent = [-1] * len(flat_cost)
+    closed = bytearray(len(flat_cost))
+    g[start_i] = 0.0
+    dr, dc = abs(start[0] + 1 - gr), abs(start[1] + 1 - gc)
+    frontier = [((max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0, start_i)]
     expansions = 0
     while frontier:
         _, g_here, i = heapq.heappop(frontier)
-        if i in closed:
+        if closed[i]:
             continue
-        closed.add(i)
+        closed[i] = 1
         expansions += 1
         if i == goal_i:
             break
-        r, c = divmod(i, cols)
         c_here = flat_cost[i]
-        for dr, dc, half_step in moves:
-            nr, nc = r + dr, c + dc
-            if not (0 <= nr < rows and 0 <= nc < cols):
-                continue
-            j = nr * cols + nc
+        for step, half_step in moves:
+            j = i + step
             c_next = flat_cost[j]
-            if c_next == math.inf or j in closed:
+            if c_next == inf or closed[j]:
                 continue
             g_next = g_here + half_step * (c_here + c_next)
-            if g_next < g.get(j, math.inf):
+            if g_next < g[j]:
                 g[j] = g_next
                 parent[j] = i
-                heapq.heappush(frontier, (g_next + heuristic(nr, nc), g_next, j))
-    if goal_i not in closed:
-        return GridPath(None, math.inf, expansions)
+                r, c = divmod(j, width)
+                dr, dc = abs(r - gr), abs(c - gc)
+                heapq.heappush(frontier, (g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next, j))
+    if not closed[goal_i]:
+        return GridPath(None, inf, expansions)
     chain = [goal_i]
     while parent[chain[-1]] != -1:
         chain.append(parent[chain[-1]])
-    cells = np.array([divmod(i, cols) for i in reversed(chain)], dtype=np.int64)
+    cells = np.array([divmod(i, width) for i in reversed(chain)], dtype=np.int64) - 1
     return GridPath(cells, g[goal_i], expansions)

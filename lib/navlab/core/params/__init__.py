@@ -54,16 +54,16 @@ def load_params(profile: str | None = None, path: str | Path | None = None) -> P
     return _build(Params, resolved, "")
 
 
-def resolve_profile(tree: Any, profile: str) -> Any:
+def resolve_profile(tree: Any, profile: str, where: str = "") -> Any:
     """Replace every ``{smoke:…, default:…, paper:…}`` leaf by the value for ``profile``."""
     if isinstance(tree, dict):
         if tree and set(tree) <= set(PROFILES):
             if "default" not in tree:
-                raise ParamsError(f"profile mapping {tree!r} has no 'default' value")
-            return resolve_profile(tree.get(profile, tree["default"]), profile)
-        return {k: resolve_profile(v, profile) for k, v in tree.items()}
+                raise ParamsError(f"{where or 'params.yaml'} = {tree!r}: a profile mapping needs a 'default' value")
+            return resolve_profile(tree.get(profile, tree["default"]), profile, where)
+        return {k: resolve_profile(v, profile, f"{where}.{k}".lstrip(".")) for k, v in tree.items()}
     if isinstance(tree, list):
-        return [resolve_profile(v, profile) for v in tree]
+        return [resolve_profile(v, profile, f"{where}[{i}]") for i, v in enumerate(tree)]
     return tree
 
 
@@ -86,6 +86,12 @@ def _build(cls: type, data: Any, where: str) -> Any:
         if name not in data:
             raise ParamsError(f"{key}: missing; add it to params.yaml")
         values[name] = _check(_hints(cls)[name], data[name], key, field.metadata)
+    for name, value in values.items():  # a range given as min_<x> / max_<x>: an empty one fails much later
+        upper = f"max_{name.removeprefix('min_')}"
+        numbers = all(isinstance(v, int | float) for v in (value, values.get(upper)))
+        if name.startswith("min_") and upper in values and numbers and value > values[upper]:
+            key = f"{where}.{name}".lstrip(".")
+            raise ParamsError(f"{key} = {value!r} exceeds {upper} = {values[upper]!r}; give min <= max")
     return cls(**values)
 
 
@@ -109,7 +115,10 @@ def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
         length = meta.get("length")
         if length is not None and len(value) != length:
             raise ParamsError(f"{key} = {value!r}: expected a list of {length} items")
-        return tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
+        items = tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
+        if meta.get("ordered") and list(items) != sorted(items):
+            raise ParamsError(f"{key} = {list(value)!r}: give [min, max] with min <= max")
+        return items
     if origin is dict:
         if not isinstance(value, dict):
             raise ParamsError(f"{key} = {value!r}: expected a mapping")

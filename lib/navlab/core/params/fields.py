@@ -5,6 +5,10 @@ from dataclasses import field
 PROFILES = ("smoke", "default", "paper")
 
 
-def between(lo: float | None = None, hi: float | None = None, length: int | None = None):
-    """A dataclass field whose value (or each item of a list) must lie in [lo, hi]; lists of ``length``."""
-    return field(metadata={"min": lo, "max": hi, "length": length})
+def between(lo: float | None = None, hi: float | None = None, length: int | None = None, ordered: bool = False):
+    """A dataclass field whose value (or each item of a list) must lie in [lo, hi]; lists of ``length``;
+    ``ordered`` lists (a ``[min, max]`` range) must not decrease.
+
+    Scalar ranges spelled as two keys ``min_<x>`` / ``max_<x>`` are checked for order by the loader.
+    """
+    return field(metadata={"min": lo, "max": hi, "length": length, "ordered": ordered})

@@ -10,7 +10,7 @@ from navlab.core.params.fields import between
 @dataclass(frozen=True)
 class ProceduralParams:
     tile_size_m: float = between(50.0)  # side of a square procedural tile
-    block_size_m: tuple[float, ...] = between(20.0, 400.0, length=2)  # block side range (min, max)
+    block_size_m: tuple[float, ...] = between(20.0, 400.0, length=2, ordered=True)  # block side range [min, max]
     river_probability: float = between(0.0, 1.0)
     living_street_probability: float = between(0.0, 1.0)
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from navlab.core.io import DataError
 from navlab.core.labels import FREE_IDS
 from navlab.core.params.demos import DemosParams
 from navlab.graphs.incremental import resegment
@@ -88,13 +89,18 @@ def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs
 
     A semi-static demonstration's ``relaxed_superpixels`` are ids of the incrementally updated raster
     (graphs.incremental.resegment with ``compactness``), the graph a planner sees after the change.
+    A map that cannot give ``n_pairs`` usable pairs is a DataError (a one-line stop in the data build);
+    any other exception is a bug and keeps its traceback.
     """
     labels, frame = semantic_map.labels, semantic_map.frame
     res = frame.resolution
     margin = int(np.ceil(settings.window_margin_m / res))
     costs = CostCache(labels, res)
-    candidates = sample_pairs(semantic_map, FREE_IDS, 4 * n_pairs, settings.min_distance_m,
-                              settings.max_distance_m, rng)
+    try:
+        candidates = sample_pairs(semantic_map, FREE_IDS, 4 * n_pairs, settings.min_distance_m,
+                                  settings.max_distance_m, rng)
+    except ValueError as err:  # the map cannot hold the asked pairs: a data problem, one line (CLI exit 2)
+        raise DataError(f"{err} (data.demos in params.yaml)") from None
     static, semi = [], []
     for start, goal in candidates:
         persona = int(rng.integers(len(PERSONAS)))
@@ -110,6 +116,6 @@ def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs
         if len(static) == n_pairs:
             break
     if len(static) < n_pairs:
-        raise ValueError(f"{semantic_map.name}: only {len(static)} of {n_pairs} start-goal pairs have a reachable "
-                         "goal and a perturbable path; lower data.demos.pairs_per_map or check the map")
+        raise DataError(f"{semantic_map.name}: only {len(static)} of {n_pairs} start-goal pairs have a reachable "
+                        "goal and a perturbable path; lower data.demos.pairs_per_map or check the map")
     return static, semi

@@ -10,6 +10,7 @@ the snapshot depends on that section as well as on ``data.demos``.
 from __future__ import annotations
 
 import hashlib
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,18 +18,18 @@ import numpy as np
 from tqdm import tqdm
 
 from navlab.core.dataset import require
-from navlab.core.io import DataError, load_npz, save_npz, sha256_json, write_json
+from navlab.core.io import load_npz, save_npz, sha256_json, write_json
 from navlab.core.params import Params
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
 from navlab.graphs.incremental import resegment
 from navlab.graphs.region_graph import RegionGraph, build_region_graph
 from navlab.graphs.superpixels import label_consistent_slic
+from navlab.maps.dataset import SPLITS, check_split, load_maps
 from navlab.maps.semantic_map import SemanticMap
 from navlab.surenav.experts.environments import Demonstration, map_environments
 
 DEMOS_DIR = Path("surenav", "demos")
-SPLITS = ("train", "val", "test")
 KINDS = ("static", "semi_static")
 _RAGGED = {"path": np.float32, "relaxed_cells": np.int64, "relaxed_superpixels": np.int64,
            "delta_cells": np.int64, "delta_labels": np.uint8}
@@ -79,8 +80,7 @@ def save_map_demos(path: str | Path, superpixels: np.ndarray, static: list[Demon
 
 def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
     """Every map's demonstrations of one split, in map-name order."""
-    if split not in SPLITS:
-        raise ValueError(f"split {split!r}: splits are {', '.join(SPLITS)}")
+    check_split(split)
     folder = require(data_dir, DEMOS_DIR, split)
     out = []
     for path in sorted(folder.glob("*.npz")):
@@ -92,26 +92,24 @@ def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
 
 def build_demos(params: Params, out_dir: Path) -> None:
     """The `demos` data step: demonstrations on every map the `maps` step wrote into ``out_dir``."""
-    from navlab.maps.dataset import load_maps
-
     settings, graph = params.data.demos, params.surenav.graph
     index = {}
     for split in SPLITS:
         maps = load_maps(out_dir, split)
         n_pairs = settings.test_pairs_per_map if split == "test" else settings.pairs_per_map
         index[split] = {}
+        folder = Path(out_dir, DEMOS_DIR, split)
+        for stale in set(folder.glob("*.npz")) - {folder / f"{m.name}.npz" for m in maps}:
+            stale.unlink()  # a resumed build over other maps: load_demos would read this file as a map's
         for semantic_map in tqdm(maps, desc=f"demos {split}", unit="map"):
-            target = Path(out_dir, DEMOS_DIR, split, f"{semantic_map.name}.npz")
+            target = folder / f"{semantic_map.name}.npz"
             fingerprint = sha256_json({"demos": settings, "graph": graph, "map": semantic_map.name,
                                        "labels": hashlib.sha256(semantic_map.labels.tobytes()).hexdigest()})
             if not _is_built(target, fingerprint):
                 superpixels = label_consistent_slic(semantic_map.labels, graph.target_nodes, graph.compactness)
-                try:
-                    static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
-                                                    rng(settings.seed, "demos", split, semantic_map.name),
-                                                    graph.compactness)
-                except ValueError as err:  # too few usable start-goal pairs: a data problem, said in one line
-                    raise DataError(str(err)) from None
+                static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
+                                                rng(settings.seed, "demos", split, semantic_map.name),
+                                                graph.compactness)
                 save_map_demos(target, superpixels, static, semi, fingerprint)
             index[split][semantic_map.name] = {"static": n_pairs, "semi_static": n_pairs}
     write_json(Path(out_dir, DEMOS_DIR, "index.json"), index)
@@ -135,8 +133,10 @@ def demo_graph(md: MapDemos, demo: Demonstration, semantic_map: SemanticMap, gra
 
 
 def _is_built(target: Path, fingerprint: str) -> bool:
-    """A finished map file from an interrupted build with the same settings (resume)."""
-    if not target.is_file():
+    """A finished map file from an interrupted build with the same settings (resume); an unreadable
+    one is not finished, so it is rebuilt rather than stopping the build."""
+    try:
+        with np.load(target, allow_pickle=False) as npz:
+            return "fingerprint" in npz.files and str(npz["fingerprint"]) == fingerprint
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError):  # OSError covers a missing file
         return False
-    with np.load(target, allow_pickle=False) as npz:
-        return "fingerprint" in npz.files and str(npz["fingerprint"]) == fingerprint
