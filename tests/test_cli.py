@@ -7,7 +7,7 @@ from navlab.cli import build_parser, main
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "navlab", *args], capture_output=True, text=True)
+    return subprocess.run([sys.executable, "-m", "navlab", *args], capture_output=True, text=True, check=False)
 
 
 def test_every_subcommand_has_help():
@@ -22,7 +22,8 @@ def test_every_subcommand_has_help():
 
 
 def test_bad_params_is_one_line_error(tmp_path, monkeypatch):
-    (tmp_path / "params.yaml").write_text(open("params.yaml").read().replace("queries:", "querys:"))
+    with open("params.yaml") as fh:
+        (tmp_path / "params.yaml").write_text(fh.read().replace("queries:", "querys:"))
     monkeypatch.chdir(tmp_path)
     proc = _run("params", "show")
     assert proc.returncode == 2

@@ -7,7 +7,8 @@ from navlab.core.params import ParamsError, load_params
 
 
 def _write(tmp_path, mutate):
-    raw = yaml.safe_load(open("params.yaml"))
+    with open("params.yaml") as fh:
+        raw = yaml.safe_load(fh)
     mutate(raw)
     path = tmp_path / "params.yaml"
     path.write_text(yaml.safe_dump(raw))

@@ -59,3 +59,17 @@ def constraint_mask(labels: np.ndarray, constraint: Constraint) -> np.ndarray:
 def colorize(labels: np.ndarray) -> np.ndarray:
     """An RGB image of a label raster in the paper's palette."""
     return PALETTE[labels]
+
+
+def cost_raster(labels: np.ndarray, soft_cost: dict[str, float]) -> np.ndarray:
+    """Cost per metre of each cell: 1 on free labels, ``soft_cost[name]`` on soft ones, ``inf`` on hard.
+
+    Every soft label needs a cost: a missing one is an error rather than a silent default.
+    """
+    missing = [lab.name for lab in LABELS if lab.constraint == "soft" and lab.name not in soft_cost]
+    unknown = sorted(set(soft_cost) - {lab.name for lab in LABELS if lab.constraint == "soft"})
+    if missing or unknown:
+        raise ValueError(f"soft_cost: missing {missing}, not soft labels {unknown}; give one cost per soft label")
+    table = np.array([1.0 if lab.constraint == "free" else soft_cost[lab.name] if lab.constraint == "soft"
+                      else np.inf for lab in LABELS])
+    return table[labels]

@@ -97,7 +97,7 @@ def cache_dir() -> Path:
 
 
 def _run(cmd: list[str], cwd: Path, what: str) -> None:
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, check=False)
     if proc.returncode != 0:
         tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
         raise DataError(f"could not fetch {what}: `{' '.join(cmd)}` failed: {' | '.join(tail)}")

@@ -114,19 +114,14 @@ def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
         if not isinstance(value, dict):
             raise ParamsError(f"{key} = {value!r}: expected a mapping")
         return {str(k): _check(args[1], v, f"{key}.{k}", meta) for k, v in value.items()}
-    if hint is float:
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise ParamsError(f"{key} = {value!r}: expected a number")
-        value = float(value)
-    elif hint is int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ParamsError(f"{key} = {value!r}: expected an integer")
-    elif hint is bool:
-        if not isinstance(value, bool):
-            raise ParamsError(f"{key} = {value!r}: expected true or false")
-    elif hint is str:
-        if not isinstance(value, str):
-            raise ParamsError(f"{key} = {value!r}: expected a string")
+    expected = {float: ((int, float), "a number"), int: (int, "an integer"), bool: (bool, "true or false"),
+                str: (str, "a string")}.get(hint)
+    if expected is not None:
+        types_ok, words = expected
+        if (isinstance(value, bool) and hint is not bool) or not isinstance(value, types_ok):
+            raise ParamsError(f"{key} = {value!r}: expected {words}")
+        if hint is float:
+            value = float(value)
     lo, hi = meta.get("min"), meta.get("max")
     if (lo is not None and value < lo) or (hi is not None and value > hi):
         allowed = f"between {lo} and {hi}" if lo is not None and hi is not None else (
