@@ -27,7 +27,11 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
-    return []
+    from navlab.pacer.artifacts import artifact_steps as pacer_steps
+
+    return [
+        *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
+    ]
 
 
 def _artifacts_build(args) -> int:

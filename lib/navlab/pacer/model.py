@@ -16,6 +16,8 @@ Two fusions, chosen in params.yaml (`pacer.model.fusion`):
 
 from __future__ import annotations
 
+import itertools
+
 import torch
 from torch import nn
 from torch.nn import functional as F
@@ -122,7 +124,7 @@ class PacerNet(nn.Module):
         self.context_encoder = (ContextResNet50(c_ctx, cfg.context_dim) if cfg.context_encoder == "resnet50"
                                 else ContextCNN(c_ctx, tuple(cfg.context_channels), cfg.context_dim))
         ups = (cfg.bottleneck_channels, *widths[::-1])
-        self.up = nn.ModuleList(UpBlock(c, w) for c, w in zip(ups[:-1], ups[1:]))
+        self.up = nn.ModuleList(UpBlock(c, w) for c, w in itertools.pairwise(ups))
         if cfg.fusion == "film":
             self.film = nn.ModuleList(FiLM(cfg.context_dim, c) for c in ups)
         else:

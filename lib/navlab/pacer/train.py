@@ -2,7 +2,8 @@
 
 Each phase starts from the previous phase's weights. An epoch draws ``examples_per_epoch`` examples,
 first a dataset uniformly among the phase's datasets (as the paper does), then an example uniformly
-within it; the draw is keyed by (seed, phase, epoch), so a run resumed from a checkpoint sees exactly
+within it; the draw is keyed by (seed, phase, epoch), and datasets that render examples on the fly
+are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run resumed from a checkpoint sees exactly
 the batches an uninterrupted run would have seen and ends at the same weights.
 
 Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the final
@@ -135,6 +136,9 @@ def train_phase(
                total=epochs)
     for epoch in bar:
         model.train()
+        for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
+            if hasattr(ds, "set_epoch"):
+                ds.set_epoch(epoch)
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
         for start in range(0, len(draws), train_cfg.batch_size):

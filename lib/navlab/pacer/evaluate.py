@@ -1,0 +1,73 @@
+"""Using a costmap: predicted costs over a large map, A* paths on them, and agreement with an ordering.
+
+PACER's aerial-map experiments (Sec. VI-A) give the robot its local BEV at each pose; we cover a large
+rendered map with overlapping BEV-sized windows instead, each window contributing only inside its
+field-of-view trapezoid (the only pixels the network was trained on), and plan once on the stitched
+map. The planner sees cost per metre 1 + cost_scale · c for predicted cost c ∈ [0, 1].
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from torch.nn import functional as F
+
+from navlab.search.grid_astar import GridPath, plan
+
+
+@torch.no_grad()
+def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch.Tensor, fov_mask: np.ndarray,
+                     *, overlap: int = 4, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
+    """(H,W) costs of a large (3,H,W) map: windows of the FOV mask's size at stride window/overlap.
+
+    The map is reflect-padded by one window so border pixels fall inside some window's trapezoid too;
+    each pixel averages the predictions of the windows whose field of view covers it.
+    """
+    model.eval()
+    window = fov_mask.shape[0]
+    stride = max(1, window // overlap)
+    image = torch.as_tensor(image, dtype=torch.float32)
+    _, h, w = image.shape
+    padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
+    weight = torch.as_tensor(fov_mask, dtype=torch.float32)
+    tops = range(0, padded.shape[1] - window + 1, stride)
+    lefts = range(0, padded.shape[2] - window + 1, stride)
+    corners = [(r, c) for r in tops for c in lefts]
+    total = torch.zeros(padded.shape[1:])
+    hits = torch.zeros(padded.shape[1:])
+    ctx = torch.as_tensor(context, dtype=torch.float32)[None].to(device)
+    for start in range(0, len(corners), batch):
+        chunk = corners[start:start + batch]
+        windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in chunk])
+        costs = torch.sigmoid(model(windows.to(device), ctx.expand(len(chunk), -1, -1, -1))).cpu()
+        for (r, c), cost in zip(chunk, costs):
+            total[r:r + window, c:c + window] += cost * weight
+            hits[r:r + window, c:c + window] += weight
+    inner = (slice(window, window + h), slice(window, window + w))
+    return total[inner] / hits[inner].clamp_min(1e-6)
+
+
+def plan_on_costmap(costmap: np.ndarray, start, goal, cost_scale: float) -> GridPath:
+    """Optimal 8-connected A* path where a cell costs 1 + cost_scale · costmap per metre."""
+    return plan(1.0 + cost_scale * np.asarray(costmap, dtype=np.float64), start, goal)
+
+
+def order_agreement(predicted: np.ndarray, target: np.ndarray, labels: np.ndarray, mask: np.ndarray) -> tuple[int, int]:
+    """(agreeing, compared) pairs of terrains in view whose target costs differ.
+
+    A pair agrees when the terrain with the lower target cost also has the lower mean predicted cost,
+    i.e. the costmap follows the preference the target encodes (condition NC2 of the paper, per terrain).
+    """
+    predicted, target, labels = (np.asarray(a) for a in (predicted, target, labels))
+    mask = np.asarray(mask, dtype=bool)
+    present = np.unique(labels[mask])
+    means = {t: (predicted[mask & (labels == t)].mean(), target[mask & (labels == t)].mean()) for t in present}
+    agree = compared = 0
+    for i, a in enumerate(present):
+        for b in present[i + 1:]:
+            (pa, ta), (pb, tb) = means[a], means[b]
+            if ta == tb:
+                continue
+            compared += 1
+            agree += int((pa < pb) == (ta < tb))
+    return agree, compared
