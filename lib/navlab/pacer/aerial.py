@@ -1,0 +1,72 @@
+"""Rendered aerial maps for the navigation experiments (PACER Sec. VI-A, Tables I-II).
+
+The paper plans with A* over drone orthophotos of its campus (seen) and OpenAerialMap tiles (unseen).
+Ours are large rendered maps: an aerial label layout (many warped Voronoi regions and a few trails
+from edge to edge) over 3-5 terrains of one group, textured at the BEV images' ground scale (a window
+of ``image_size`` pixels is one BEV image's footprint), with a start and a goal near opposite edges.
+The hidden total ordering for scoring is the realistic one (or its inversion) over ``terrains``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from navlab.core.params import Params
+from navlab.core.params.pacer import PacerDataParams
+from navlab.core.seeding import rng as seeded_rng
+from navlab.pacer.bev import render_aerial
+from navlab.pacer.layouts import aerial_layout
+from navlab.pacer.terrain import TerrainBank, load_terrain_bank
+
+EDGE_MARGIN = 0.04  # start and goal sit this fraction of the map inside its edges
+
+
+@dataclass(frozen=True, eq=False)
+class AerialMap:
+    image: np.ndarray  # float32 (3, S, S) RGB in [0, 1]
+    labels: np.ndarray  # int64 (S, S) terrain ids
+    terrains: np.ndarray  # int64 (L,) terrain ids on the map, ascending
+    start: tuple[int, int]  # (row, col)
+    goal: tuple[int, int]
+
+
+def aerial_map(bank: TerrainBank, params: PacerDataParams, terrains: Literal["seen", "unseen"], index: int,
+               seed: int) -> AerialMap:
+    """Map ``index`` of the ``terrains`` group, seeded by ``(seed, "pacer-aerial", terrains, index)``."""
+    rng = seeded_rng(seed, "pacer-aerial", terrains, index)
+    aerial = params.aerial
+    regions = aerial_layout(rng, aerial, params.layout, params.image_size)
+    group = bank.ids(terrains)
+    count = int(rng.integers(aerial.terrains[0], min(aerial.terrains[1], len(group)) + 1))
+    chosen = rng.choice(group, size=count, replace=False)
+    n_regions = int(regions.max()) + 1
+    region_terrains = np.concatenate([rng.permutation(chosen), rng.choice(chosen, size=max(0, n_regions - count))])
+    labels = region_terrains[:n_regions][regions]
+    image = render_aerial(labels, bank, rng, params)
+    start, goal = _start_goal(rng, aerial.size)
+    return AerialMap(np.ascontiguousarray(image.transpose(2, 0, 1)), labels.astype(np.int64), np.unique(labels),
+                     start, goal)
+
+
+def aerial_maps(params: Params, data_dir: str | Path, terrains: Literal["seen", "unseen"],
+                bank: TerrainBank | None = None) -> list[AerialMap]:
+    """The ``params.pacer.data.aerial.maps`` evaluation maps of one group (seen or unseen environments)."""
+    if terrains not in ("seen", "unseen"):
+        raise ValueError(f"terrains {terrains!r}: aerial maps are 'seen' or 'unseen' environments")
+    data = params.pacer.data
+    bank = bank if bank is not None else load_terrain_bank(data_dir, data)
+    return [aerial_map(bank, data, terrains, i, params.pacer.seed) for i in range(data.aerial.maps)]
+
+
+def _start_goal(rng: np.random.Generator, size: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Opposite edges (left-right or top-bottom, either way round), random positions along them."""
+    near, far = round(EDGE_MARGIN * size), size - 1 - round(EDGE_MARGIN * size)
+    a, b = (int(v) for v in rng.integers(round(0.15 * size), round(0.85 * size), size=2))
+    ends = [(a, near), (b, far)] if rng.uniform() < 0.5 else [(near, a), (far, b)]
+    if rng.uniform() < 0.5:
+        ends.reverse()
+    return ends[0], ends[1]

@@ -1,0 +1,78 @@
+"""Preference contexts (PACER Sec. IV-A, V-A): n pairs of terrain patches, the preferred one on top.
+
+From an ordering ``tau_1 > ... > tau_L`` we choose n of its L(L-1)/2 ordered pairs without replacement
+(with repeats only when L(L-1)/2 < n; a lone terrain pairs with itself), shuffle them, and draw for each
+terrain a fresh h x w patch from the *context part* of one of its photographs (never the part BEV
+images are rendered from), at a ground scale like the images'. Pair i fills channels 3i..3i+2 of a
+float32 ``(3n, 2h, w)`` tensor: rows 0..h-1 the preferred patch, rows h..2h-1 the other one.
+
+An *uninformative* context (Sec. VI, questions 1b/2b) has the same form but is built from terrains of
+another group than the image shows, so it says nothing about the image's terrains.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from navlab.core.params.pacer import PacerDataParams
+from navlab.pacer.bev import texels_per_pixel
+from navlab.pacer.terrain import PYRAMID_LEVELS, TerrainBank
+
+
+def preference_pairs(ordering: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
+    """int64 (n_pairs, 2): rows (preferred terrain, less preferred terrain), consistent with ``ordering``."""
+    ordering = np.asarray(ordering, dtype=np.int64)
+    count = len(ordering)
+    if count == 0:
+        raise ValueError("ordering is empty; a preference context needs at least one terrain")
+    if count == 1:
+        return np.repeat(ordering[None, [0, 0]], n_pairs, axis=0)
+    upper, lower = np.triu_indices(count, k=1)  # rank upper < rank lower: upper is preferred
+    chosen = rng.permutation(len(upper))[: min(n_pairs, len(upper))]
+    if len(chosen) < n_pairs:
+        chosen = np.concatenate([chosen, rng.integers(0, len(upper), size=n_pairs - len(chosen))])
+    chosen = rng.permutation(chosen)
+    return np.stack([ordering[upper[chosen]], ordering[lower[chosen]]], axis=1)
+
+
+def context_patch(bank: TerrainBank, terrain: int, rng: np.random.Generator, patch_size: int,
+                  scale: float) -> np.ndarray:
+    """float32 (h, w, 3): a random square crop of a context part of ``terrain``, ``scale`` photograph
+    pixels per patch pixel (as far as the part allows), randomly turned by a multiple of 90 degrees."""
+    instances = bank.context_parts[terrain]
+    pyramid = instances[int(rng.integers(len(instances)))]
+    level = int(np.clip(np.floor(np.log2(max(scale, 1.0))), 0, PYRAMID_LEVELS - 1))
+    part = pyramid[level]
+    side = int(np.clip(round(patch_size * scale / 2**level), 1, min(part.shape[:2])))
+    top = int(rng.integers(0, part.shape[0] - side + 1))
+    left = int(rng.integers(0, part.shape[1] - side + 1))
+    crop = part[top : top + side, left : left + side]
+    interpolation = cv2.INTER_AREA if side >= patch_size else cv2.INTER_LINEAR
+    patch = cv2.resize(crop, (patch_size, patch_size), interpolation=interpolation)
+    return np.ascontiguousarray(np.rot90(patch, k=int(rng.integers(4))), dtype=np.float32)
+
+
+def stack_context(preferred: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """(3n, 2h, w) from n preferred and n other patches (each (n, h, w, 3)): preferred on top."""
+    pairs = np.concatenate([preferred, other], axis=1)  # (n, 2h, w, 3)
+    return np.ascontiguousarray(pairs.transpose(0, 3, 1, 2).reshape(-1, *pairs.shape[1:3]), dtype=np.float32)
+
+
+def preference_context(bank: TerrainBank, ordering: np.ndarray, rng: np.random.Generator,
+                       params: PacerDataParams) -> tuple[np.ndarray, np.ndarray]:
+    """(context float32 (3n, 2h, w), pairs int64 (n, 2)) for ``ordering`` (terrain ids, most preferred
+    first), with n = ``params.n_pairs`` and h = w = ``params.patch_size``."""
+    pairs = preference_pairs(ordering, params.n_pairs, rng)
+    scale = texels_per_pixel(rng, params)
+    patches = np.stack([[context_patch(bank, t, rng, params.patch_size, scale) for t in pair] for pair in pairs])
+    return stack_context(patches[:, 0], patches[:, 1]), pairs
+
+
+def uninformative_terrains(candidates: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
+    """The fewest of ``candidates`` (terrain ids of a group the image does not show) that give ``n_pairs``
+    distinct pairs, drawn at random: the terrains of an uninformative context."""
+    count = 2
+    while count * (count - 1) // 2 < n_pairs:
+        count += 1
+    return rng.choice(np.asarray(candidates, dtype=np.int64), size=min(count, len(candidates)), replace=False)

@@ -1,0 +1,173 @@
+"""PACER's datasets (Sec. V-C): D_real, D_shuffled, D_synthetic and the evaluation sets, made on the fly.
+
+Every item is generated from its own seed ``(params.pacer.seed, recipe stream, split, index)`` (plus ``epoch``
+when one is set, for augmentation), so item i is the same bytes in every epoch, on every machine, with
+any number of DataLoader workers; nothing is written to data/. An item is a dict of tensors:
+
+=========== ======================= =================================================================
+key         dtype, shape            meaning
+=========== ======================= =================================================================
+image       float32 (3, S, S)       BEV image in [0, 1], zero outside the field of view
+context     float32 (3n, 2h, w)     preference context: pair i in channels 3i..3i+2, preferred on top
+costmap     float32 (S, S)          target cost (l-1)/(L-1) of each pixel's terrain rank l; 0 outside FOV
+fov_mask    bool (S, S)             the trapezoid field of view (the loss is taken inside it only)
+labels      int64 (S, S)            terrain ids (``TerrainBank.terrains``), -1 outside the FOV
+ordering    int64 (L_max,)          the L terrains in view, most preferred first, padded with -1
+pairs       int64 (n, 2)            terrain ids (preferred, other) of each context pair, in channel order
+=========== ======================= =================================================================
+
+Recipes (``RECIPES``):
+
+* ``real``: seen terrains, the realistic ordering (phase 1);
+* ``shuffled``: seen terrains, a uniformly random permutation per item (phase 2);
+* ``synthetic``: a seen layout in which each terrain is replaced by a Sweet Home 3D texture with chance
+  ``synthetic_replace`` (at least one is), random ordering (phase 3);
+* evaluation (:func:`evaluation_dataset`): seen or unseen terrains x realistic or inverted ordering, with
+  an informative context or an uninformative one (terrains of the other group only).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+import torch
+from torch.utils.data import Dataset
+
+from navlab.core.params import Params
+from navlab.core.params.pacer import PacerDataParams
+from navlab.core.seeding import rng as seeded_rng
+from navlab.pacer.bev import fov_mask, render_bev
+from navlab.pacer.context import preference_context, uninformative_terrains
+from navlab.pacer.layouts import bev_layout
+from navlab.pacer.preferences import IGNORE, Preference, order_terrains, pad_ordering, target_costmap
+from navlab.pacer.terrain import TerrainBank, load_terrain_bank
+
+Split = Literal["train", "val", "test"]
+SPLITS: tuple[Split, ...] = ("train", "val", "test")
+TRAINING_SETS = ("real", "shuffled", "synthetic")
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """How one dataset's items are made. Items are seeded by ``stream``: recipes that share it share their
+    layouts and images and differ only in ordering and context (realistic vs inverted evaluation)."""
+
+    name: str
+    stream: str
+    terrains: Literal["seen", "unseen"]
+    preference: Preference
+    synthetic: bool = False  # replace some terrains by synthetic ones (D_synthetic)
+    informative: bool = True  # False: the context shows only terrains of the other group
+
+
+RECIPES = {
+    "real": Recipe("real", "real", "seen", "realistic"),
+    "shuffled": Recipe("shuffled", "shuffled", "seen", "random"),
+    "synthetic": Recipe("synthetic", "synthetic", "seen", "random", synthetic=True),
+}
+
+
+def max_terrains(params: PacerDataParams) -> int:
+    """L_max: the most terrains one BEV image can show (the padded length of ``ordering``)."""
+    return params.layout.regions[1] + (1 if params.layout.path_probability > 0 else 0)
+
+
+class PacerDataset(Dataset):
+    """``size`` items of ``recipe`` for ``split``; see the module docstring for the item layout."""
+
+    def __init__(self, bank: TerrainBank, params: PacerDataParams, recipe: Recipe, split: Split, size: int,
+                 seed: int, epoch: int | None = None):
+        if split not in SPLITS:
+            raise ValueError(f"split {split!r}: allowed splits are {', '.join(SPLITS)}")
+        self.bank, self.params, self.recipe, self.split = bank, params, recipe, split
+        self.size, self.seed, self.epoch = size, seed, epoch
+
+    def __len__(self) -> int:
+        return self.size
+
+    def set_epoch(self, epoch: int | None) -> None:
+        """Draw fresh items per epoch (augmentation); None: the same items every epoch."""
+        self.epoch = epoch
+
+    def __getitem__(self, index: int) -> dict[str, torch.Tensor]:
+        return {key: torch.from_numpy(value) for key, value in self.item(index).items()}
+
+    def item(self, index: int) -> dict[str, np.ndarray]:
+        """Item ``index`` as numpy arrays (same keys, dtypes and shapes as ``__getitem__``)."""
+        if not 0 <= index < self.size:
+            raise IndexError(f"item {index} is outside {self.recipe.name}/{self.split} (size {self.size})")
+        keys = ("pacer", self.recipe.stream, self.split, index) + (() if self.epoch is None else ("epoch", self.epoch))
+        rng = seeded_rng(self.seed, *keys)
+        return make_item(self.bank, self.params, self.recipe, rng)
+
+
+def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: np.random.Generator) -> dict:
+    """One item of ``recipe`` (numpy arrays); every random draw comes from ``rng``."""
+    regions = bev_layout(rng, params.image_size, params.layout, params.camera.near_width)
+    region_terrains = rng.choice(bank.ids(recipe.terrains), size=int(regions.max()) + 1, replace=False)
+    if recipe.synthetic:
+        visible = np.unique(regions[fov_mask(params.image_size, params.camera.near_width)])
+        region_terrains = _replace_with_synthetic(region_terrains, visible, bank, rng, params.synthetic_replace)
+    terrain_map = region_terrains[regions]
+    image, fov = render_bev(terrain_map, bank, rng, params)
+    labels = np.where(fov, terrain_map, IGNORE)
+    ordering = order_terrains(np.unique(labels[fov]), recipe.preference, bank, rng)
+    if recipe.informative:
+        context_ordering = ordering
+    else:
+        other = "unseen" if recipe.terrains == "seen" else "seen"
+        shown = uninformative_terrains(bank.ids(other), params.n_pairs, rng)
+        context_ordering = order_terrains(shown, recipe.preference, bank, rng)
+    context, pairs = preference_context(bank, context_ordering, rng, params)
+    return {
+        "image": np.ascontiguousarray(image.transpose(2, 0, 1)),
+        "context": context,
+        "costmap": target_costmap(labels, ordering),
+        "fov_mask": fov,
+        "labels": labels.astype(np.int64),
+        "ordering": pad_ordering(ordering, max_terrains(params)),
+        "pairs": pairs,
+    }
+
+
+def _replace_with_synthetic(terrains: np.ndarray, visible: np.ndarray, bank: TerrainBank,
+                            rng: np.random.Generator, chance: float) -> np.ndarray:
+    """Each region's terrain becomes a distinct synthetic one with probability ``chance``; at least one
+    region in view (``visible``) does, so every D_synthetic image shows a synthetic terrain."""
+    replace = rng.uniform(size=len(terrains)) < chance
+    if not replace[visible].any():
+        replace[visible[int(rng.integers(len(visible)))]] = True
+    out = terrains.copy()
+    out[replace] = rng.choice(bank.ids("synthetic"), size=int(replace.sum()), replace=False)
+    return out
+
+
+def pacer_dataset(params: Params, data_dir: str | Path, name: str, split: Split = "train",
+                  bank: TerrainBank | None = None) -> PacerDataset:
+    """D_real / D_shuffled / D_synthetic (``name`` = real, shuffled, synthetic) for ``split``, sized by
+    ``params.pacer.data.sizes``; pass ``bank`` to share one loaded bank between datasets."""
+    if name not in RECIPES:
+        raise ValueError(f"dataset {name!r}: allowed names are {', '.join(RECIPES)}")
+    data = params.pacer.data
+    bank = bank if bank is not None else load_terrain_bank(data_dir, data)
+    return PacerDataset(bank, data, RECIPES[name], split, getattr(data.sizes, split), params.pacer.seed)
+
+
+def evaluation_dataset(params: Params, data_dir: str | Path, terrains: Literal["seen", "unseen"],
+                       preference: Literal["realistic", "inverted"], informative: bool = True,
+                       split: Split = "test", bank: TerrainBank | None = None) -> PacerDataset:
+    """Held-out BEV items on ``terrains`` under the realistic or inverted ordering (Tables III-IV style),
+    with an informative context or an uninformative one (``informative=False``). All four variants of one
+    ``terrains`` show the same images: only the ordering, the costmap and the context differ."""
+    if terrains not in ("seen", "unseen"):
+        raise ValueError(f"terrains {terrains!r}: evaluation sets are 'seen' or 'unseen'")
+    if preference not in ("realistic", "inverted"):
+        raise ValueError(f"preference {preference!r}: evaluation sets are 'realistic' or 'inverted'")
+    name = f"eval-{terrains}-{preference}" + ("" if informative else "-uninformative")
+    recipe = Recipe(name, f"eval-{terrains}", terrains, preference, informative=informative)
+    data = params.pacer.data
+    bank = bank if bank is not None else load_terrain_bank(data_dir, data)
+    return PacerDataset(bank, data, recipe, split, getattr(data.sizes, split), params.pacer.seed)

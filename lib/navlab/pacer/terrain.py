@@ -1,0 +1,161 @@
+"""Terrain banks: the real photographs in data/, grouped into terrain classes and split three ways.
+
+PACER (Mao et al., RA-L 2025, Sec. V-A) fills its BEV images and preference contexts from one bank of
+image patches per terrain type. Our banks are the top-down photographs that data/ carries under
+``raw/terrain/``: Extreme Tux Racer's tileable 256x256 colour terrains, scikit-image's 512x512
+grayscale grass/gravel/brick, and Sweet Home 3D's floor and wall textures.
+
+The split is fixed in params.yaml (``pacer.data``), never drawn at random:
+
+* ``seen``: the classes of D_real and D_shuffled and of the seen evaluation environments (ETR pavers,
+  gravel, pebbles, grass, dirt, sand, mud, rock);
+* ``unseen``: held out, evaluation only, classes never shown in training (ETR limestone, lichen, snow,
+  cracked rock and scikit-image's grayscale brick, gravel and grass);
+* ``synthetic``: D_synthetic's second texture family (the 14 Sweet Home 3D textures standing in for the
+  paper's 14 Poly Haven ones), only ever given random preference orderings.
+
+Terrain ids are positions in :attr:`TerrainBank.terrains`: seen classes first (params order), then
+unseen, then synthetic. Every photograph is cut along its width into an *image part* (left) that feeds
+BEV images and a *context part* (the right ``context_fraction``) that feeds preference-context patches,
+so a context patch never repeats a crop of the image it comes with.
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import cv2
+import numpy as np
+
+from navlab.core.dataset import require
+from navlab.core.io import DataError
+from navlab.core.params import ParamsError
+from navlab.core.params.pacer import PacerDataParams
+
+Group = Literal["seen", "unseen", "synthetic"]
+GROUPS: tuple[Group, ...] = ("seen", "unseen", "synthetic")
+TIER_NAMES = ("low", "medium", "high")
+PYRAMID_LEVELS = 3  # texture copies at 1, 1/2, 1/4 resolution, so minified fills do not alias
+
+
+@dataclass(frozen=True)
+class Terrain:
+    id: int
+    name: str
+    group: Group
+    sources: tuple[str, ...]  # photographs, relative to <data_dir>/raw/terrain
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainBank:
+    """Photographs per terrain id, split into image and context parts, each as a small pyramid.
+
+    ``image_parts[t][k][level]`` is photograph k of terrain t, image part, downsampled 2**level times:
+    float32 (h, w, 3) RGB in [0, 1]; ``context_parts`` likewise. ``realistic_rank[t]`` is t's position in
+    the realistic ordering (0 = most preferred; -1 for synthetic terrains) and ``tier[t]`` its tier
+    (0 low, 1 medium, 2 high; -1 for synthetic terrains).
+    """
+
+    terrains: tuple[Terrain, ...]
+    image_parts: tuple[tuple[tuple[np.ndarray, ...], ...], ...]
+    context_parts: tuple[tuple[tuple[np.ndarray, ...], ...], ...]
+    realistic_rank: np.ndarray
+    tier: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.terrains)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(t.name for t in self.terrains)
+
+    def ids(self, group: Group) -> np.ndarray:
+        """Terrain ids of one group, ascending."""
+        if group not in GROUPS:
+            raise ValueError(f"terrain group {group!r}: allowed groups are {', '.join(GROUPS)}")
+        return np.array([t.id for t in self.terrains if t.group == group], dtype=np.int64)
+
+    def id_of(self, name: str) -> int:
+        for terrain in self.terrains:
+            if terrain.name == name:
+                return terrain.id
+        raise KeyError(f"terrain {name!r} is not in the bank; known terrains: {', '.join(self.names)}")
+
+
+def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainBank:
+    """The bank for ``params`` (``params.pacer.data``) from ``<data_dir>/raw/terrain``."""
+    _check_split(params)
+    root = require(data_dir, "raw", "terrain")
+    terrains, image_parts, context_parts = [], [], []
+    for group in GROUPS:
+        for name, sources in getattr(params, group).items():
+            if not sources:
+                raise ParamsError(f"pacer.data.{group}.{name}: no photographs; list at least one")
+            terrains.append(Terrain(len(terrains), name, group, tuple(sources)))
+            parts = [_split_photo(root / src, params.context_fraction) for src in sources]
+            image_parts.append(tuple(p[0] for p in parts))
+            context_parts.append(tuple(p[1] for p in parts))
+    index = {t.name: t.id for t in terrains}
+    rank = np.full(len(terrains), -1, dtype=np.int64)
+    rank[[index[n] for n in params.realistic_ordering]] = np.arange(len(params.realistic_ordering))
+    tier = np.full(len(terrains), -1, dtype=np.int64)
+    for level, tier_name in enumerate(TIER_NAMES):
+        tier[[index[n] for n in params.tiers[tier_name]]] = level
+    return TerrainBank(tuple(terrains), tuple(image_parts), tuple(context_parts), rank, tier)
+
+
+def _check_split(params: PacerDataParams) -> None:
+    """One clear ParamsError when the class lists, the ordering and the tiers disagree."""
+    names = [n for g in GROUPS for n in getattr(params, g)]
+    duplicated = sorted({n for n in names if names.count(n) > 1})
+    if duplicated:
+        raise ParamsError(f"pacer.data: terrain classes {duplicated} appear in more than one group; "
+                          "give every class one group")
+    ranked = set(params.seen) | set(params.unseen)
+    ordering = list(params.realistic_ordering)
+    if sorted(ordering) != sorted(ranked):
+        raise ParamsError(f"pacer.data.realistic_ordering = {ordering}: must list every seen and unseen class "
+                          f"exactly once ({sorted(ranked)})")
+    if set(params.tiers) != set(TIER_NAMES):
+        raise ParamsError(f"pacer.data.tiers: keys {sorted(params.tiers)}; expected exactly {list(TIER_NAMES)}")
+    tiered = [n for t in TIER_NAMES for n in params.tiers[t]]
+    if sorted(tiered) != sorted(ranked):
+        raise ParamsError(f"pacer.data.tiers: must put every seen and unseen class in exactly one tier "
+                          f"(got {sorted(tiered)})")
+    rank = {n: i for i, n in enumerate(ordering)}
+    for lower, upper in itertools.pairwise(TIER_NAMES):
+        if max(rank[n] for n in params.tiers[lower]) > min(rank[n] for n in params.tiers[upper]):
+            raise ParamsError(f"pacer.data.tiers: every {lower!r} class must come before every {upper!r} "
+                              "class in realistic_ordering")
+
+
+def _split_photo(path: Path, context_fraction: float) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+    photo = _read_photo(str(path))
+    cut = photo.shape[1] - max(1, round(photo.shape[1] * context_fraction))
+    return _pyramid(photo[:, :cut]), _pyramid(photo[:, cut:])
+
+
+@functools.cache
+def _read_photo(path: str) -> np.ndarray:
+    """float32 RGB in [0, 1]; grayscale photographs are repeated over the three channels."""
+    if not Path(path).is_file():
+        raise DataError(f"{path} is missing: build the dataset with `python -m navlab data build`")
+    bgr = cv2.imread(path, cv2.IMREAD_COLOR)
+    if bgr is None:
+        raise DataError(f"{path}: not a readable image; rebuild the dataset with `python -m navlab data build --force`")
+    rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
+    rgb.setflags(write=False)
+    return rgb
+
+
+def _pyramid(image: np.ndarray) -> tuple[np.ndarray, ...]:
+    levels = [np.ascontiguousarray(image)]
+    for _ in range(PYRAMID_LEVELS - 1):
+        levels.append(cv2.pyrDown(levels[-1], borderType=cv2.BORDER_REFLECT_101))
+    for level in levels:
+        level.setflags(write=False)
+    return tuple(levels)
