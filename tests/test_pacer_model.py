@@ -207,3 +207,35 @@ def test_sterling_utility_follows_the_context(smoke):
         means = {lab: cost[item["labels"] == lab].mean() for lab in present}
         best, worst = sorted(present, key=ordering.index)
         assert means[best] < means[worst]
+
+
+class PixelModel(torch.nn.Module):
+    """A per-pixel 'network' (logit = 4·(red − 0.5)): stitched windows must reproduce it exactly."""
+
+    def forward(self, image, context):
+        return 4 * (image[:, 0] - 0.5)
+
+
+def test_costmap_over_map_stitches_fov_windows_exactly():
+    from navlab.pacer.bev import fov_mask
+    from navlab.pacer.evaluate import costmap_over_map
+
+    gen = torch.Generator().manual_seed(0)
+    image = torch.rand(3, 48, 40, generator=gen)
+    mask = fov_mask(16, 0.35)
+    for overlap in (2, 4):
+        cost = costmap_over_map(PixelModel(), image, torch.zeros(9, 16, 8), mask, overlap=overlap)
+        assert cost.shape == (48, 40)
+        assert torch.allclose(cost, torch.sigmoid(4 * (image[0] - 0.5)), atol=1e-5)
+
+
+def test_context_pair_agreement_counts_visible_pairs():
+    from navlab.pacer.evaluate import context_pair_agreement
+
+    labels = np.array([[0, 0, 1, 1], [2, 2, 1, 1]])
+    mask = np.ones_like(labels, dtype=bool)
+    predicted = np.array([[0.1, 0.1, 0.5, 0.5], [0.9, 0.9, 0.5, 0.5]])
+    # 0 ≻ 1 agrees, 2 ≻ 1 disagrees, 3 is not in view, a self-pair is skipped
+    assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1], [3, 0], [1, 1]])) == (1, 2)
+    mask[1] = False  # terrain 2 leaves the view
+    assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1]])) == (1, 1)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from torch.utils.data import Subset
+
 from navlab.core.params import Params
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
@@ -28,7 +30,8 @@ def _train(phase: str):
         train_phase(
             params.pacer.model, params.pacer.train,
             [pacer_dataset(params, data_dir, n, "train", bank) for n in names],
-            [pacer_dataset(params, data_dir, n, "val", bank) for n in names],
+            [Subset(ds, range(min(params.pacer.train.val_examples, len(ds))))
+             for ds in (pacer_dataset(params, data_dir, n, "val", bank) for n in names)],
             phase_dir(artifacts_dir, phase), phase=phase, epochs=getattr(params.pacer.train.epochs, phase),
             seed=params.pacer.seed, context_pairs=params.pacer.data.n_pairs,
             init_from=phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,

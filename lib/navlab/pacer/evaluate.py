@@ -17,7 +17,7 @@ from navlab.search.grid_astar import GridPath, plan
 
 @torch.no_grad()
 def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch.Tensor, fov_mask: np.ndarray,
-                     *, overlap: int = 4, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
+                     *, overlap: int = 2, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
     """(H,W) costs of a large (3,H,W) map: windows of the FOV mask's size at stride window/overlap.
 
     The map is reflect-padded by one window so border pixels fall inside some window's trapezoid too;
@@ -52,22 +52,17 @@ def plan_on_costmap(costmap: np.ndarray, start, goal, cost_scale: float) -> Grid
     return plan(1.0 + cost_scale * np.asarray(costmap, dtype=np.float64), start, goal)
 
 
-def order_agreement(predicted: np.ndarray, target: np.ndarray, labels: np.ndarray, mask: np.ndarray) -> tuple[int, int]:
-    """(agreeing, compared) pairs of terrains in view whose target costs differ.
-
-    A pair agrees when the terrain with the lower target cost also has the lower mean predicted cost,
-    i.e. the costmap follows the preference the target encodes (condition NC2 of the paper, per terrain).
-    """
-    predicted, target, labels = (np.asarray(a) for a in (predicted, target, labels))
+def context_pair_agreement(predicted: np.ndarray, labels: np.ndarray, mask: np.ndarray,
+                           pairs: np.ndarray) -> tuple[int, int]:
+    """(agreeing, compared) context pairs: pair (a ≻ b) agrees when terrain a's mean predicted cost in view
+    is lower than b's. Pairs whose terrains are not both in view (or a = b) are not compared."""
+    predicted, labels = np.asarray(predicted), np.asarray(labels)
     mask = np.asarray(mask, dtype=bool)
-    present = np.unique(labels[mask])
-    means = {t: (predicted[mask & (labels == t)].mean(), target[mask & (labels == t)].mean()) for t in present}
     agree = compared = 0
-    for i, a in enumerate(present):
-        for b in present[i + 1:]:
-            (pa, ta), (pb, tb) = means[a], means[b]
-            if ta == tb:
-                continue
-            compared += 1
-            agree += int((pa < pb) == (ta < tb))
+    for a, b in np.asarray(pairs, dtype=np.int64).reshape(-1, 2):
+        in_a, in_b = mask & (labels == a), mask & (labels == b)
+        if a == b or not in_a.any() or not in_b.any():
+            continue
+        compared += 1
+        agree += int(predicted[in_a].mean() < predicted[in_b].mean())
     return agree, compared

@@ -26,7 +26,7 @@ from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import preference_context, uninformative_terrains
-from navlab.pacer.evaluate import costmap_over_map, order_agreement, plan_on_costmap
+from navlab.pacer.evaluate import costmap_over_map, context_pair_agreement, plan_on_costmap
 from navlab.pacer.preferences import order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import TerrainBank
 
@@ -113,15 +113,15 @@ def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Metho
 
 @torch.no_grad()
 def preference_agreement(model: torch.nn.Module, dataset: Dataset, count: int, device: str = "cpu") -> tuple[float, int]:
-    """(fraction, pairs): over ``count`` items, how often the terrain the item's ordering prefers gets the
-    lower mean predicted cost, for every pair of terrains in view."""
+    """(fraction, pairs): over ``count`` items, how often the terrain a context pair prefers gets the lower
+    mean predicted cost (pairs with both terrains in view)."""
     model.eval()
     agree = compared = 0
     for i in range(min(count, len(dataset))):
         item = dataset[i]
         pred = model.costmap(item["image"][None].to(device), item["context"][None].to(device))[0].cpu().numpy()
-        a, c = order_agreement(pred, np.asarray(item["costmap"]), np.asarray(item["labels"]),
-                               np.asarray(item["fov_mask"]))
+        a, c = context_pair_agreement(pred, np.asarray(item["labels"]), np.asarray(item["fov_mask"]),
+                                      np.asarray(item["pairs"]))
         agree, compared = agree + a, compared + c
     return (agree / compared if compared else float("nan")), compared
 

@@ -76,6 +76,7 @@ class PacerDataParams:
     camera: PacerCameraParams
     sizes: PacerSizesParams
     aerial: PacerAerialParams
+@dataclass(frozen=True)
 class PacerModelParams:
     """The costmap network (pacer/model.py): a U-Net over the BEV image, a context encoder, a fusion."""
 
@@ -99,9 +100,10 @@ class PacerTrainParams:
     device: str  # "cpu" or "cuda"
     epochs: PacerPhaseEpochs
     examples_per_epoch: int = between(1)  # drawn uniformly over the phase's datasets (Sec. V-C)
+    val_examples: int = between(1)  # first items of each of the phase's validation sets, per epoch
     batch_size: int = between(1)
     lr: float = between(1e-7, 1.0)
-    threads: int = between(1, 64)
+    threads: int = between(1, 64)  # torch CPU threads; 1 on shared machines (oversubscription stalls)
 
 
 @dataclass(frozen=True)
