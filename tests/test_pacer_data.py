@@ -64,6 +64,12 @@ def test_inconsistent_split_is_one_clear_error(smoke_data, smoke_params):
     swapped = dict(data.tiers, low=data.tiers["high"], high=data.tiers["low"])
     with pytest.raises(ParamsError, match="tiers: every 'low' class must come before"):
         load_terrain_bank(smoke_data, dataclasses.replace(data, tiers=swapped))
+    crowded = dataclasses.replace(data, layout=dataclasses.replace(data.layout, regions=(2, 8)))
+    with pytest.raises(ParamsError, match="pacer.data.seen: 8 classes, but a BEV image can show 9 terrains"):
+        load_terrain_bank(smoke_data, crowded)
+    backwards = dataclasses.replace(data, footprint_texels=(200.0, 100.0))
+    with pytest.raises(ParamsError, match=r"footprint_texels = \[200.0, 100.0\]"):
+        load_terrain_bank(smoke_data, backwards)
 
 
 # --- preferences: ordering -> costs ------------------------------------------------------------------

@@ -17,8 +17,9 @@ from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
 def data_steps():
     """The steps of ``data build``, in order; each writes under its own folder of data/."""
     from navlab.core.sources import build_raw
+    from navlab.maps.dataset import build_maps
 
-    return [("raw", build_raw)]
+    return [("raw", build_raw), ("maps", build_maps)]
 
 
 def artifact_steps():

@@ -63,7 +63,7 @@ def save_npz(target: str | Path, arrays: Mapping[str, np.ndarray], compress: boo
     with zipfile.ZipFile(buf, "w", compression=method) as zf:
         for name in sorted(arrays):
             member = io.BytesIO()
-            np.lib.format.write_array(member, np.ascontiguousarray(arrays[name]), allow_pickle=False)
+            np.lib.format.write_array(member, np.require(arrays[name], requirements="C"), allow_pickle=False)
             info = zipfile.ZipInfo(f"{name}.npy", date_time=_EPOCH)
             info.compress_type = method
             info.external_attr = 0o644 << 16

@@ -9,7 +9,8 @@ Data half (one concept per module; everything seeded from params.yaml ``pacer``)
   ``render_aerial``, ``fov_mask``.
 * ``preferences``: orderings (realistic / inverted / random), ``rank_costs`` ((l-1)/(L-1)),
   ``target_costmap``, ``tier_table``; ``IGNORE`` = -1.
-* ``context``: ``preference_context(bank, ordering, rng, params) -> ((3n, 2h, w), pairs)``.
+* ``context``: ``preference_context(bank, ordering, rng, params) -> ((3n, 2h, w), pairs)`` and
+  ``uninformative_context(bank, shown_group, preference, rng, params)`` (terrains of the other group).
 * ``datasets``: ``pacer_dataset(params, data_dir, "real" | "shuffled" | "synthetic", split)`` and
   ``evaluation_dataset(params, data_dir, "seen" | "unseen", "realistic" | "inverted", informative)``:
   torch Datasets of dicts ``image, context, costmap, fov_mask, labels, ordering``.

@@ -22,7 +22,7 @@ import cv2
 import numpy as np
 
 from navlab.core.params.pacer import PacerCameraParams, PacerDataParams, PacerPhotometricParams
-from navlab.pacer.terrain import PYRAMID_LEVELS, TerrainBank
+from navlab.pacer.terrain import TerrainBank, pyramid_level
 
 REGION_SCALE_JITTER = 0.2  # per-region texture scale varies by up to exp(+-0.2) around the image's scale
 
@@ -60,7 +60,7 @@ def texture_fill(terrain_map: np.ndarray, bank: TerrainBank, rng: np.random.Gene
         instances = bank.image_parts[terrain]
         pyramid = instances[int(rng.integers(len(instances)))]
         s = scale * float(np.exp(rng.uniform(-REGION_SCALE_JITTER, REGION_SCALE_JITTER)))
-        level = int(np.clip(np.floor(np.log2(max(s, 1.0))), 0, PYRAMID_LEVELS - 1))
+        level = pyramid_level(s)
         photo, s = pyramid[level], s / 2**level
         angle = rng.uniform(0.0, 2.0 * np.pi)
         offset = rng.uniform(0.0, 1.0, size=2) * photo.shape[1::-1]

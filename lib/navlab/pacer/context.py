@@ -3,8 +3,9 @@
 From an ordering ``tau_1 > ... > tau_L`` we choose n of its L(L-1)/2 ordered pairs without replacement
 (with repeats only when L(L-1)/2 < n; a lone terrain pairs with itself), shuffle them, and draw for each
 terrain a fresh h x w patch from the *context part* of one of its photographs (never the part BEV
-images are rendered from), at a ground scale like the images'. Pair i fills channels 3i..3i+2 of a
-float32 ``(3n, 2h, w)`` tensor: rows 0..h-1 the preferred patch, rows h..2h-1 the other one.
+images are rendered from), at a ground scale like the images' and under its own brightness. Pair i
+fills channels 3i..3i+2 of a float32 ``(3n, 2h, w)`` tensor: rows 0..h-1 the preferred patch, rows
+h..2h-1 the other one.
 
 An *uninformative* context (Sec. VI, questions 1b/2b) has the same form but is built from terrains of
 another group than the image shows, so it says nothing about the image's terrains.
@@ -12,12 +13,15 @@ another group than the image shows, so it says nothing about the image's terrain
 
 from __future__ import annotations
 
+from typing import Literal
+
 import cv2
 import numpy as np
 
 from navlab.core.params.pacer import PacerDataParams
 from navlab.pacer.bev import texels_per_pixel
-from navlab.pacer.terrain import PYRAMID_LEVELS, TerrainBank
+from navlab.pacer.preferences import Preference, order_terrains
+from navlab.pacer.terrain import TerrainBank, pyramid_level
 
 
 def preference_pairs(ordering: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
@@ -42,7 +46,7 @@ def context_patch(bank: TerrainBank, terrain: int, rng: np.random.Generator, pat
     pixels per patch pixel (as far as the part allows), randomly turned by a multiple of 90 degrees."""
     instances = bank.context_parts[terrain]
     pyramid = instances[int(rng.integers(len(instances)))]
-    level = int(np.clip(np.floor(np.log2(max(scale, 1.0))), 0, PYRAMID_LEVELS - 1))
+    level = pyramid_level(scale)
     part = pyramid[level]
     side = int(np.clip(round(patch_size * scale / 2**level), 1, min(part.shape[:2])))
     top = int(rng.integers(0, part.shape[0] - side + 1))
@@ -66,12 +70,25 @@ def preference_context(bank: TerrainBank, ordering: np.ndarray, rng: np.random.G
     pairs = preference_pairs(ordering, params.n_pairs, rng)
     scale = texels_per_pixel(rng, params)
     patches = np.stack([[context_patch(bank, t, rng, params.patch_size, scale) for t in pair] for pair in pairs])
+    jitter = params.photometric.brightness  # patches come from other photographs, under other light
+    gains = 1.0 + rng.uniform(-jitter, jitter, size=(*pairs.shape, 1, 1, 1)).astype(np.float32)
+    patches = np.clip(patches * gains, 0.0, 1.0)
     return stack_context(patches[:, 0], patches[:, 1]), pairs
+
+
+def uninformative_context(bank: TerrainBank, shown: Literal["seen", "unseen"], preference: Preference,
+                          rng: np.random.Generator, params: PacerDataParams) -> tuple[np.ndarray, np.ndarray]:
+    """(context, pairs) like :func:`preference_context`, but over terrains of the group the environment
+    does *not* show (``shown`` seen -> unseen terrains and vice versa): the fewest such terrains that give
+    ``n_pairs`` distinct pairs, drawn at random and ordered by ``preference``."""
+    other = bank.ids("unseen" if shown == "seen" else "seen")
+    terrains = uninformative_terrains(other, params.n_pairs, rng)
+    return preference_context(bank, order_terrains(terrains, preference, bank, rng), rng, params)
 
 
 def uninformative_terrains(candidates: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
     """The fewest of ``candidates`` (terrain ids of a group the image does not show) that give ``n_pairs``
-    distinct pairs, drawn at random: the terrains of an uninformative context."""
+    distinct pairs, drawn at random: the terrains of an uninformative context (unordered)."""
     count = 2
     while count * (count - 1) // 2 < n_pairs:
         count += 1

@@ -40,14 +40,13 @@ from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng as seeded_rng
 from navlab.pacer.bev import fov_mask, render_bev
-from navlab.pacer.context import preference_context, uninformative_terrains
+from navlab.pacer.context import preference_context, uninformative_context
 from navlab.pacer.layouts import bev_layout
 from navlab.pacer.preferences import IGNORE, Preference, order_terrains, pad_ordering, target_costmap
 from navlab.pacer.terrain import TerrainBank, load_terrain_bank
 
 Split = Literal["train", "val", "test"]
 SPLITS: tuple[Split, ...] = ("train", "val", "test")
-TRAINING_SETS = ("real", "shuffled", "synthetic")
 
 
 @dataclass(frozen=True)
@@ -116,12 +115,9 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
     labels = np.where(fov, terrain_map, IGNORE)
     ordering = order_terrains(np.unique(labels[fov]), recipe.preference, bank, rng)
     if recipe.informative:
-        context_ordering = ordering
+        context, pairs = preference_context(bank, ordering, rng, params)
     else:
-        other = "unseen" if recipe.terrains == "seen" else "seen"
-        shown = uninformative_terrains(bank.ids(other), params.n_pairs, rng)
-        context_ordering = order_terrains(shown, recipe.preference, bank, rng)
-    context, pairs = preference_context(bank, context_ordering, rng, params)
+        context, pairs = uninformative_context(bank, recipe.terrains, recipe.preference, rng, params)
     return {
         "image": np.ascontiguousarray(image.transpose(2, 0, 1)),
         "context": context,

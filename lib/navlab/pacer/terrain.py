@@ -86,9 +86,16 @@ class TerrainBank:
         raise KeyError(f"terrain {name!r} is not in the bank; known terrains: {', '.join(self.names)}")
 
 
+def pyramid_level(scale: float) -> int:
+    """The pyramid level to sample at ``scale`` photograph pixels per output pixel: the coarsest one that
+    still leaves at least one texel per pixel, so linear interpolation never skips texels (no aliasing)."""
+    return int(np.clip(np.floor(np.log2(max(scale, 1.0))), 0, PYRAMID_LEVELS - 1))
+
+
 def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainBank:
     """The bank for ``params`` (``params.pacer.data``) from ``<data_dir>/raw/terrain``."""
     _check_split(params)
+    _check_ranges(params)
     root = require(data_dir, "raw", "terrain")
     terrains, image_parts, context_parts = [], [], []
     for group in GROUPS:
@@ -128,9 +135,28 @@ def _check_split(params: PacerDataParams) -> None:
                           f"(got {sorted(tiered)})")
     rank = {n: i for i, n in enumerate(ordering)}
     for lower, upper in itertools.pairwise(TIER_NAMES):
-        if max(rank[n] for n in params.tiers[lower]) > min(rank[n] for n in params.tiers[upper]):
+        if max((rank[n] for n in params.tiers[lower]), default=-1) > min(
+                (rank[n] for n in params.tiers[upper]), default=len(rank)):
             raise ParamsError(f"pacer.data.tiers: every {lower!r} class must come before every {upper!r} "
                               "class in realistic_ordering")
+
+
+def _check_ranges(params: PacerDataParams) -> None:
+    """[min, max] pairs must be ordered, and a BEV image needs as many distinct terrains per group as it
+    can have regions (every region gets its own terrain)."""
+    pairs = {"footprint_texels": params.footprint_texels, "layout.regions": params.layout.regions,
+             "layout.path_width": params.layout.path_width, "aerial.regions": params.aerial.regions,
+             "aerial.terrains": params.aerial.terrains, "aerial.paths": params.aerial.paths}
+    for key, (lo, hi) in pairs.items():
+        if lo > hi:
+            raise ParamsError(f"pacer.data.{key} = [{lo}, {hi}]: give [min, max] with min <= max")
+    most = params.layout.regions[1] + (1 if params.layout.path_probability > 0 else 0)
+    for group in ("seen", "unseen"):
+        if len(getattr(params, group)) < most:
+            raise ParamsError(f"pacer.data.{group}: {len(getattr(params, group))} classes, but a BEV image can "
+                              f"show {most} terrains (layout.regions max + trail); add classes or lower regions")
+    if len(params.synthetic) < 1:
+        raise ParamsError("pacer.data.synthetic: no classes; D_synthetic needs at least one synthetic terrain")
 
 
 def _split_photo(path: Path, context_fraction: float) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
