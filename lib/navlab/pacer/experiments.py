@@ -25,8 +25,8 @@ from navlab.pacer.aerial import AerialMap
 from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
-from navlab.pacer.context import preference_context, uninformative_terrains
-from navlab.pacer.evaluate import costmap_over_map, context_pair_agreement, plan_on_costmap
+from navlab.pacer.context import preference_context, uninformative_context
+from navlab.pacer.evaluate import context_pair_agreement, costmap_over_map, plan_on_costmap
 from navlab.pacer.preferences import order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import TerrainBank
 
@@ -45,12 +45,11 @@ def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, prefe
     """
     gen = rng(seed, "pacer.navigation.context", preference, informative, index)
     ordering = order_terrains(amap.terrains, preference, bank, gen)
-    shown = ordering
-    if not informative:
+    if informative:
+        context, _ = preference_context(bank, ordering, gen, data)
+    else:
         group = bank.terrains[int(amap.terrains[0])].group
-        other = bank.ids("unseen" if group == "seen" else "seen")
-        shown = order_terrains(uninformative_terrains(other, data.n_pairs, gen), preference, bank, gen)
-    context, _ = preference_context(bank, shown, gen, data)
+        context, _ = uninformative_context(bank, group, preference, gen, data)
     return ordering, context
 
 
