@@ -69,18 +69,23 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--device", default="cpu")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--batch", type=int, default=8, help="costmaps per forward pass")
+    parser.add_argument("--batch", type=int, default=8, help="costmaps per forward pass of our model")
+    parser.add_argument("--paper-batch", type=int, default=1, help="costmaps per forward pass, paper-size model")
+    parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
     parser.add_argument("--reports-dir", default="reports")
     args = parser.parse_args()
     torch.manual_seed(0)
+    if args.threads:
+        torch.set_num_threads(args.threads)
     ours = build_model(load_params("default").pacer.model, device=args.device).eval()
     paper = build_model(load_params("paper").pacer.model, device=args.device).eval()
     paper_size = load_params("paper").pacer.data.image_size
-    runs = [("ours (default)", ours, "default", None), ("ours at paper size", ours, "default", paper_size),
-            ("paper-size architecture", paper, "paper", None)]
+    runs = [("ours (default)", ours, "default", None, args.batch),
+            ("ours at paper size", ours, "default", paper_size, args.batch),
+            ("paper-size architecture", paper, "paper", None, args.paper_batch)]
     results = {}
-    for name, model, profile, size in runs:
-        image, context = inputs(profile, args.batch, args.device, size)
+    for name, model, profile, size, batch in runs:
+        image, context = inputs(profile, batch, args.device, size)
         results[name] = (flops(model, image, context), costmaps_per_second(model, image, context, args.repeats))
         print(f"{name:26s} {count_parameters(model) / 1e6:9.3f} M params, input {tuple(image.shape[1:])}, "
               f"{results[name][0] / 1e9:9.3f} GFLOP/costmap, {results[name][1]:9.2f} costmaps/s ({args.device})")

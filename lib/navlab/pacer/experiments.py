@@ -69,7 +69,7 @@ def sterling_method(encoder: SterlingEncoder, steps: int) -> Method:
 def classifier_method(classifier: SemanticClassifier, bank: TerrainBank, preference: Preference) -> Method:
     """Costs from a label table: the preference ranks the classifier's own (seen) labels; None elsewhere."""
     known = np.asarray(classifier.labels)
-    ordering = order_terrains(known, preference, bank, rng(0, "unused"))
+    ordering = order_terrains(known, preference, bank, rng(0, "pacer.classifier"))  # fixed orderings draw nothing
     table = dict(zip(ordering.tolist(), rank_costs(ordering).tolist()))
 
     def cost(amap, _ordering, _context):
