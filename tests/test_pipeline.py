@@ -1,11 +1,13 @@
 """dvc.yaml covers every notebook and artefact step, and every table it lists feeds the report index."""
 
+from pathlib import Path
+
 import yaml
 
 from navlab.cli import artifact_steps
 from navlab.core.notebooks import discover
 
-STAGES = yaml.safe_load(open("dvc.yaml", encoding="utf8"))["stages"]
+STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
 COMMANDS = {name: stage["cmd"] for name, stage in STAGES.items()}
 
 
@@ -31,5 +33,5 @@ def test_every_metric_feeds_the_index():
 
 
 def test_dvc_runs_offline():
-    config = open(".dvc/config", encoding="utf8").read()
+    config = Path(".dvc/config").read_text(encoding="utf8")
     assert "analytics = false" in config and "check_update = false" in config

@@ -18,8 +18,9 @@ def data_steps():
     """The steps of ``data build``, in order; each writes under its own folder of data/."""
     from navlab.core.sources import build_raw
     from navlab.maps.dataset import build_maps
+    from navlab.surenav.experts import build_demos
 
-    return [("raw", build_raw), ("maps", build_maps)]
+    return [("raw", build_raw), ("maps", build_maps), ("demos", build_demos)]
 
 
 def artifact_steps():
@@ -68,7 +69,7 @@ def _data_build(args) -> int:
         if params.profile != dataset.RECORDED_PROFILE:
             raise DataError(f"data.dvc records the {dataset.RECORDED_PROFILE!r} profile; "
                             f"rerun with --profile {dataset.RECORDED_PROFILE}")
-        subprocess.run(["dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir)], cwd=root, check=True)
         print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
         return 0
     if not checked:
@@ -78,7 +79,7 @@ def _data_build(args) -> int:
     ok, msg = dataset.verify(data_dir, dvc_file)
     print(msg)
     if ok:
-        subprocess.run(["dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
+        subprocess.run([sys.executable, "-m", "dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
     return 0 if ok else 1
 
 

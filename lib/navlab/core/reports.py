@@ -1,7 +1,9 @@
 """Report files: the contract between notebooks, the README, DVC metrics and reviewers (DESIGN.md).
 
 Each reproduced table is ``reports/<paper>/<table_id>.json`` (our numbers beside the paper's) and a
-Markdown twin; ``write_index`` gathers every table into ``reports/README.md``.
+Markdown twin; ``write_index`` gathers every table into ``reports/README.md``. Beyond the DESIGN.md
+keys, the JSON carries ``metrics``: our rows again, keyed by row, because `dvc metrics show/diff`
+only read numbers out of mappings, not out of the ``rows`` list.
 """
 
 from __future__ import annotations
@@ -49,6 +51,7 @@ def write_table(
         "paper": [_clean(r) for r in paper_rows],
         "notes": notes,
     }
+    report["metrics"] = _metrics_by_row(report)
     out = Path(reports_dir) / paper
     write_json(out / f"{table_id}.json", report)
     write_text(out / f"{table_id}.md", to_markdown(report))
@@ -72,6 +75,15 @@ def _clean(row: dict[str, Any]) -> dict[str, Any]:
             v = None
         out[k] = v
     return out
+
+
+def _metrics_by_row(report: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Our numbers keyed by row ("SuReNav/milan": {"sr": 0.9}): lists are opaque to `dvc metrics show`."""
+    keys = _key_columns(report)
+    return {
+        "/".join(str(r.get(k)) for k in keys) or "all": {c: v for c, v in r.items() if c not in keys}
+        for r in report["rows"]
+    }
 
 
 def _fmt(v: Any) -> str:

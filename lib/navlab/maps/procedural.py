@@ -31,7 +31,8 @@ LIVING_STREET_WIDTH_M = 5.0
 CROSSWALK_WIDTH_M = 3.0
 BUILDING_DEPTH_M = (10.0, 20.0)
 LOT_SIZE_M = 18.0
-BLOCK_KINDS = ("buildings", "park", "parking", "rough", "plaza")
+GAP_WIDTH_M = 3.0  # between neighbouring buildings of a block
+BUILDINGS, PARK, PARKING, ROUGH, PLAZA = range(5)  # block kinds
 BLOCK_KIND_P = (0.66, 0.14, 0.09, 0.07, 0.04)
 
 
@@ -74,7 +75,7 @@ def _blocks(labels: np.ndarray, street: np.ndarray, rng: np.random.Generator, st
             resolution: float) -> None:
     """Fill every block (a connected component of non-street cells) with its kind's contents."""
     count, block = cv2.connectedComponents((~street).astype(np.uint8), connectivity=4)
-    kind = rng.choice(len(BLOCK_KINDS), size=count, p=BLOCK_KIND_P)
+    kind = rng.choice(len(BLOCK_KIND_P), size=count, p=BLOCK_KIND_P)
     kind[0] = -1  # the street cells
     cell_kind = kind[block]
     depth_from_street = cv2.distanceTransform((~street).astype(np.uint8), cv2.DIST_L2, 5) * resolution
@@ -85,32 +86,33 @@ def _blocks(labels: np.ndarray, street: np.ndarray, rng: np.random.Generator, st
     depth = rng.uniform(*BUILDING_DEPTH_M, count)
     courtyard = np.where(rng.random(count) < 0.7, label_id("grass"), label_id("parking"))
     front = np.where(rng.random(count) < 0.5, label_id("grass"), label_id("sidewalk"))
-    is_b = cell_kind == 0
+    is_b = cell_kind == BUILDINGS
     d, sb, dp = depth_from_street, setback[block], depth[block]
     labels[is_b] = label_id("building")
     labels[is_b & (d < sb)] = front[block][is_b & (d < sb)]
     inner = is_b & (d >= sb + dp)
     labels[inner] = courtyard[block][inner]
-    # Lot boundaries: gaps between neighbouring buildings where two lot seeds are equidistant.
+    # Lot boundaries: the Voronoi edges of random lot seeds (nearest-seed labels by a distance transform)
+    # open a gap between neighbouring buildings where a per-pair coin says so.
     n_lots = max(int(rows * cols * resolution**2 / LOT_SIZE_M**2), 2)
-    lot_seeds = rng.uniform(0, [cols * resolution, rows * resolution], size=(n_lots, 2))
-    rc = np.argwhere(is_b)
-    if len(rc):
-        xy = (rc[:, ::-1] + 0.5) * resolution
-        dist, idx = cKDTree(lot_seeds).query(xy, k=2)
-        p1, p2 = lot_seeds[idx[:, 0]], lot_seeds[idx[:, 1]]
-        bisector = (dist[:, 1] ** 2 - dist[:, 0] ** 2) / (2 * np.linalg.norm(p2 - p1, axis=1))
-        coin = rng.random(n_lots)  # a symmetric per-pair coin: the gap between lots i and j is open or not
-        gap_open = (coin[idx[:, 0]] + coin[idx[:, 1]]) % 1.0 < 0.5
-        gap = (bisector < 1.5) & gap_open & (labels[rc[:, 0], rc[:, 1]] == label_id("building"))
-        labels[rc[gap, 0], rc[gap, 1]] = label_id("grass")
+    seeds = np.ones((rows, cols), dtype=np.uint8)
+    seeds[rng.integers(0, rows, n_lots), rng.integers(0, cols, n_lots)] = 0
+    _, lot = cv2.distanceTransformWithLabels(seeds, cv2.DIST_L2, 5, labelType=cv2.DIST_LABEL_PIXEL)
+    coin = rng.random(int(lot.max()) + 1)
+    boundary = np.zeros((rows, cols), dtype=np.uint8)
+    for a, b, cut in ((lot[:, 1:], lot[:, :-1], (slice(None), slice(1, None))),
+                      (lot[1:, :], lot[:-1, :], (slice(1, None), slice(None)))):
+        boundary[cut] |= ((a != b) & ((coin[a] + coin[b]) % 1.0 < 0.5)).astype(np.uint8)
+    width_px = max(round(GAP_WIDTH_M / resolution), 1)
+    gap = cv2.dilate(boundary, np.ones((width_px, width_px), np.uint8)).astype(bool)
+    labels[gap & (labels == label_id("building")) & is_b] = label_id("grass")
 
-    labels[cell_kind == 2] = label_id("parking")
-    labels[cell_kind == 3] = label_id("rough_terrain")
-    labels[cell_kind == 4] = label_id("sidewalk")
-    is_park = cell_kind == 1
+    labels[cell_kind == PARKING] = label_id("parking")
+    labels[cell_kind == ROUGH] = label_id("rough_terrain")
+    labels[cell_kind == PLAZA] = label_id("sidewalk")
+    is_park = cell_kind == PARK
     labels[is_park] = label_id("grass")
-    _park_features(labels, block, np.flatnonzero(kind == 1), is_park, rng, resolution)
+    _park_features(labels, block, np.flatnonzero(kind == PARK), is_park, rng, resolution)
 
 
 def _park_features(labels: np.ndarray, block: np.ndarray, parks: np.ndarray, is_park: np.ndarray,
@@ -135,18 +137,19 @@ def _park_features(labels: np.ndarray, block: np.ndarray, parks: np.ndarray, is_
             lines.append(np.stack([c - direction, c + direction]))
             widths.append(2.0)
     stroke(paths, lines, np.array(widths), 1, resolution)
+    no_patch, scrub, pond = range(3)
     patches = np.zeros(labels.shape, dtype=np.uint8)
     for c, r, kind, scale in zip(centre, radius, rng.choice(3, parks.size), rng.uniform(0.15, 0.3, parks.size),
                                  strict=True):
-        if kind == 0:
+        if kind == no_patch:
             continue
         axes = (max(int(scale * r / resolution), 1), max(int(0.7 * scale * r / resolution), 1))
         shifted = c + rng.uniform(-0.3, 0.3, 2) * r
         cv2.ellipse(patches, tuple(int(v) for v in shifted / resolution), axes, float(rng.uniform(0, 180)),
                     0, 360, int(kind), -1)
-    labels[is_park & (patches == 1)] = label_id("rough_terrain")
-    labels[is_park & (patches == 2)] = label_id("water")
-    labels[is_park & (paths == 1) & (patches != 2)] = label_id("sidewalk")
+    labels[is_park & (patches == scrub)] = label_id("rough_terrain")
+    labels[is_park & (patches == pond)] = label_id("water")
+    labels[is_park & (paths == 1) & (patches != pond)] = label_id("sidewalk")
 
 
 def _river(shape: tuple[int, int], rng: np.random.Generator, resolution: float) -> np.ndarray:
@@ -226,8 +229,8 @@ def street_regularity(labels: np.ndarray) -> float:
     streets = cv2.GaussianBlur(streets, (0, 0), 2.0)
     gx = cv2.Sobel(streets, cv2.CV_32F, 1, 0, ksize=3)
     gy = cv2.Sobel(streets, cv2.CV_32F, 0, 1, ksize=3)
-    weight = np.hypot(gx, gy)
-    if weight.sum() == 0:
+    g = (gx + 1j * gy)[(gx != 0) | (gy != 0)]
+    if g.size == 0:
         return 0.0
-    theta = np.arctan2(gy, gx)
-    return float(np.abs((weight * np.exp(4j * theta)).sum()) / weight.sum())
+    weight = np.abs(g)
+    return float(np.abs((g**4 / weight**3).sum()) / weight.sum())  # |g| e^{4i theta} = g^4 / |g|^3

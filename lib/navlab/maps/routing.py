@@ -2,8 +2,9 @@
 
 Routes give the subgoal sequences and the perturbation seeds of the benchmark. The router is networkx
 Dijkstra over edge lengths; start and goal snap to their nearest network nodes. Because the network
-went through ``network.restrict_to_map``, a route never enters a hard cell. (OSRM itself is not run
-here: the networkx router over the same ways is the one used for every map.)
+went through ``network.restrict_to_map``, a route never enters a hard cell. ``maps.osrm`` runs OSRM
+itself over the same network (for comparison with the paper's set-up); this router is the one the
+benchmark uses, for real and procedural maps alike, since it needs no server.
 """
 
 from __future__ import annotations

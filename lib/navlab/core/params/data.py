@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from navlab.core.params.demos import DemosParams
 from navlab.core.params.fields import between
 from navlab.core.params.maps import MapsParams
 
@@ -12,3 +13,4 @@ from navlab.core.params.maps import MapsParams
 class DataParams:
     seed: int = between(0)
     maps: MapsParams
+    demos: DemosParams
