@@ -239,3 +239,14 @@ def test_context_pair_agreement_counts_visible_pairs():
     assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1], [3, 0], [1, 1]])) == (1, 2)
     mask[1] = False  # terrain 2 leaves the view
     assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1]])) == (1, 1)
+
+
+def test_crossing_queries_span_opposite_edges():
+    from navlab.pacer.evaluate import crossing_queries
+
+    queries = crossing_queries(100, 40, rng(0, "queries"))
+    assert queries == crossing_queries(100, 40, rng(0, "queries"))
+    for start, goal in queries:
+        assert all(0 <= v < 100 for v in (*start, *goal))
+        # one coordinate goes from one edge band to the other: the path must cross the map
+        assert max(abs(start[0] - goal[0]), abs(start[1] - goal[1])) >= 90

@@ -12,6 +12,7 @@ import numpy as np
 import torch
 from torch.nn import functional as F
 
+from navlab.pacer.aerial import EDGE_MARGIN
 from navlab.search.grid_astar import GridPath, plan
 
 
@@ -50,6 +51,20 @@ def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch
 def plan_on_costmap(costmap: np.ndarray, start, goal, cost_scale: float) -> GridPath:
     """Optimal 8-connected A* path where a cell costs 1 + cost_scale · costmap per metre."""
     return plan(1.0 + cost_scale * np.asarray(costmap, dtype=np.float64), start, goal)
+
+
+def crossing_queries(size: int, count: int, gen: np.random.Generator) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """``count`` (start, goal) cells near opposite edges of a square map (left-right or top-bottom, either
+    way), placed like the aerial maps' own query, so one map yields several crossings to score."""
+    near, far = round(EDGE_MARGIN * size), size - 1 - round(EDGE_MARGIN * size)
+    queries = []
+    for _ in range(count):
+        a, b = (int(v) for v in gen.integers(round(0.15 * size), round(0.85 * size), size=2))
+        ends = [(a, near), (b, far)] if gen.uniform() < 0.5 else [(near, a), (far, b)]
+        if gen.uniform() < 0.5:
+            ends.reverse()
+        queries.append((ends[0], ends[1]))
+    return queries
 
 
 def context_pair_agreement(predicted: np.ndarray, labels: np.ndarray, mask: np.ndarray,

@@ -26,7 +26,7 @@ from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import preference_context, uninformative_context
-from navlab.pacer.evaluate import context_pair_agreement, costmap_over_map, plan_on_costmap
+from navlab.pacer.evaluate import context_pair_agreement, costmap_over_map, crossing_queries, plan_on_costmap
 from navlab.pacer.preferences import order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import TerrainBank
 
@@ -85,12 +85,17 @@ def ground_truth_method() -> Method:
 
 def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Method, bool]], bank: TerrainBank,
                     data: PacerDataParams, preference: Preference, tiers: np.ndarray, cost_scale: float,
-                    seed: int) -> tuple[list[dict], dict[str, list[np.ndarray]]]:
-    """One row per method: mean tier shares of its A* paths over ``maps``; also every method's paths.
+                    seed: int, queries_per_map: int = 1) -> tuple[list[dict], dict[str, list[np.ndarray]]]:
+    """One row per method: mean tier shares of its A* paths over ``maps``; also each method's first path per map.
 
-    ``methods`` maps a name to (method, informative context?). A method that returns None on any map
-    gets a row of None (it cannot express this preference).
+    Each map is costed once per method and crossed ``queries_per_map`` times: its own start-goal pair,
+    then extra crossings drawn the same way (seeded by map index). ``methods`` maps a name to (method,
+    informative context?). A method that returns None on any map gets a row of None (it cannot
+    express this preference).
     """
+    queries = [[(amap.start, amap.goal)] + crossing_queries(amap.labels.shape[0], queries_per_map - 1,
+                                                            rng(seed, "pacer.navigation.queries", index))
+               for index, amap in enumerate(maps)]
     rows, paths = [], {}
     for name, (method, informative) in methods.items():
         shares, paths[name] = [], []
@@ -100,9 +105,11 @@ def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Metho
             if costmap is None:
                 shares = None
                 break
-            path = plan_on_costmap(costmap, amap.start, amap.goal, cost_scale)
-            paths[name].append(path.cells)
-            shares.append(cost_tier_proportions(path.cells, amap.labels, tiers))
+            for k, (start, goal) in enumerate(queries[index]):
+                path = plan_on_costmap(costmap, start, goal, cost_scale)
+                if k == 0:
+                    paths[name].append(path.cells)
+                shares.append(cost_tier_proportions(path.cells, amap.labels, tiers))
         row = {"method": name}
         for tier in TIER_NAMES:
             row[tier] = None if shares is None else float(np.mean([s[tier] for s in shares]))

@@ -139,6 +139,7 @@ class PacerEvalParams:
     heldout_examples: int = between(1)  # per evaluation set
     margin_points: int = between(2)  # points sampled per costmap for the margin ranking error
     cost_scale: float = between(0.0)  # A* cost per metre = 1 + cost_scale * predicted cost
+    queries_per_map: int = between(1)  # the map's own start-goal pair plus extra crossings
 
 
 @dataclass(frozen=True)
