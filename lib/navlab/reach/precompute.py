@@ -1,0 +1,217 @@
+"""The precomputed HJ value functions of the HJ-search paper (Sec. VI) as DVC artefacts in artifacts/hj/.
+
+Three kinds, each a grid file + sidecar (reach.store) whose ``inputs`` are exactly the params.yaml
+sub-sections it depends on (plus the room geometry), so a changed parameter makes only the affected
+grids stale:
+
+- ``ttr.npy``: general goal-centred TTR in obstacle-free space, (x, y, v, θ), goal disc at the origin;
+- ``static_brt_<room>.npy``: static-map avoid BRT of each room in ``hj.grids.rooms``, (x, y, v, θ) over
+  the room, failure set = signed distance to walls and obstacles minus the robot radius;
+- ``human_brt.npy``: human-robot BRT in the robot's body frame, (p_x, p_y, v).
+
+``build_hj_grids`` is the ``hj_grids`` artefact step; it skips files whose sidecar already records the
+same inputs, so ``dvc repro`` after an unrelated change recomputes nothing. ``load_*`` open the files for
+lookups and stop with the stage to re-run when params.yaml asks for something else.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from navlab.core.params import Params
+from navlab.maps.rooms import Room, load_room
+from navlab.reach.grid import Grid
+from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup, TTRLookup
+from navlab.reach.store import StoredGrid, grid_to_dict, is_current, load_grid, save_grid
+
+SUBDIR = "hj"
+FORMAT = "hj-grids/1"  # bump when what a grid means changes without a params change
+
+
+@dataclasses.dataclass(frozen=True)
+class GridSpec:
+    """One value function to build: its file name, grid and the inputs recorded in its sidecar."""
+
+    name: str
+    grid: Grid
+    inputs: dict[str, Any]
+    solve: Callable[[torch.device, bool, bool], tuple[Any, dict]]  # (device, progress, compile) -> (values, info)
+
+
+def _asdict(section) -> dict[str, Any]:
+    return json_ready(dataclasses.asdict(section))
+
+
+def json_ready(tree: Any) -> Any:
+    if isinstance(tree, dict):
+        return {k: json_ready(v) for k, v in tree.items()}
+    if isinstance(tree, list | tuple):
+        return [json_ready(v) for v in tree]
+    return tree
+
+
+def _settings(params: Params):
+    from navlab.reach.settings import SolverSettings
+
+    s = params.hj.grids.solver
+    return SolverSettings(scheme=s.scheme, rk_order=s.rk_order, cfl=s.cfl)
+
+
+def _car(params: Params):
+    from navlab.reach.dynamics import DubinsCar4D
+
+    r = params.hj.grids.robot
+    return DubinsCar4D(v_max=r.v_max, a_min=r.accel_min, a_max=r.accel_max, omega_max=r.omega_max)
+
+
+def _relative(params: Params):
+    from navlab.reach.dynamics import HumanRobotRelative
+
+    r = params.hj.grids.robot
+    return HumanRobotRelative(v_max=r.v_max, a_min=r.accel_min, a_max=r.accel_max, omega_max=r.omega_max,
+                              human_speed=params.hj.grids.human.speed)
+
+
+def ttr_spec(params: Params) -> GridSpec:
+    g = params.hj.grids
+    half = g.ttr.half_extent_m
+    grid = Grid((-half, -half, 0.0, -math.pi), (half, half, g.robot.v_max, math.pi), g.ttr.shape,
+                (False, False, False, True))
+    inputs = {"format": FORMAT, "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+              "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
+
+    def solve(device, progress, compile):
+        from navlab.reach.value_functions import general_ttr
+
+        values = general_ttr(_car(params), grid, g.ttr.goal_radius_m, g.ttr.horizon_s, _settings(params),
+                             stall_time=g.ttr.stall_s, device=device, progress=progress, compile=compile)
+        return values, {"unreached_fraction": float((values >= g.ttr.horizon_s).float().mean())}
+
+    return GridSpec("ttr", grid, inputs, solve)
+
+
+def room_grid(room: Room, shape: tuple[int, ...], v_max: float) -> Grid:
+    (x0, x1), (y0, y1) = room.bounds
+    return Grid((x0, y0, 0.0, -math.pi), (x1, y1, v_max, math.pi), shape, (False, False, False, True))
+
+
+def room_obstacle_distance(room: Room, grid: Grid) -> np.ndarray:
+    """Signed distance to the room's walls and obstacles on the grid's (x, y) nodes, indexed [i_x, i_y]."""
+    x, y = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
+    return room.obstacle_distance(x, y)
+
+
+def static_brt_spec(params: Params, room_name: str) -> GridSpec:
+    g = params.hj.grids
+    room = load_room(room_name)
+    grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
+    inputs = {"format": FORMAT, "kind": "static_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+              "solver": _asdict(g.solver), "static_brt": _asdict(g.static_brt),
+              "room": json_ready(dataclasses.asdict(room))}
+
+    def solve(device, progress, compile):
+        from navlab.reach.value_functions import static_brt
+
+        b = g.static_brt
+        sol = static_brt(room_obstacle_distance(room, grid), _car(params), grid, robot_radius=g.robot.radius_m,
+                         max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
+                         settings=_settings(params), device=device, progress=progress, compile=compile)
+        return sol.values, {"converged": bool(sol.converged), "time_s": float(sol.time), "steps": int(sol.steps)}
+
+    return GridSpec(f"static_brt_{room_name}", grid, inputs, solve)
+
+
+def human_brt_spec(params: Params) -> GridSpec:
+    g = params.hj.grids
+    h = g.human_brt
+    if len(h.shape) != 3:
+        raise ValueError(f"hj.grids.human_brt.shape = {list(h.shape)}: the relative state (p_x, p_y, v) has "
+                         f"3 axes")
+    reach = g.robot.radius_m + g.human.radius_m + (g.human.speed + g.robot.v_max) * h.horizon_s
+    if h.half_extent_m < reach:
+        raise ValueError(f"hj.grids.human_brt.half_extent_m = {h.half_extent_m}: must be >= {reach:.3f} m "
+                         f"(radii + closing speed × horizon), so every encounter within the horizon is on the grid")
+    grid = Grid((-h.half_extent_m, -h.half_extent_m, 0.0), (h.half_extent_m, h.half_extent_m, g.robot.v_max),
+                h.shape, (False, False, False))
+    inputs = {"format": FORMAT, "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+              "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
+
+    def solve(device, progress, compile):
+        from navlab.reach.value_functions import human_brt
+
+        values = human_brt(_relative(params), grid, collision_radius=g.robot.radius_m + g.human.radius_m,
+                           horizon=h.horizon_s, settings=_settings(params), device=device, progress=progress,
+                           compile=compile)
+        return values, {}
+
+    return GridSpec("human_brt", grid, inputs, solve)
+
+
+def specs(params: Params) -> list[GridSpec]:
+    return [ttr_spec(params), *(static_brt_spec(params, r) for r in params.hj.grids.rooms), human_brt_spec(params)]
+
+
+def grid_path(artifacts_dir: str | Path, name: str) -> Path:
+    return Path(artifacts_dir) / SUBDIR / f"{name}.npy"
+
+
+def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Path, *,
+                   device: str | torch.device | None = None, progress: bool = True, log=print) -> list[Path]:
+    """Artefact step ``hj_grids``: solve and store every value function whose file is not current.
+
+    ``device``: default ``hj.grids.device``; on CUDA the numerical Hamiltonian is fused (torch.compile).
+    """
+    del data_dir  # rooms are analytic geometry; nothing is read from data/
+    device = torch.device(device or params.hj.grids.device)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"hj.grids.device = 'cuda' ({params.profile} profile) but torch sees no GPU; "
+                         f"set it to cpu in params.yaml or run on a machine with one")
+    out = []
+    for spec in specs(params):
+        path = grid_path(artifacts_dir, spec.name)
+        if is_current(path, spec.inputs):
+            log(f"[hj_grids] {spec.name}: up to date ({path})")
+        else:
+            start = time.perf_counter()
+            values, info = spec.solve(device, progress, device.type == "cuda")
+            values = _to_numpy(values).astype(np.float32)
+            info.update(solve_seconds=round(time.perf_counter() - start, 3), device=str(device),
+                        min_value=float(values.min()), max_value=float(values.max()))
+            save_grid(path, values, spec.grid, spec.inputs, info=info)
+            log(f"[hj_grids] {spec.name}: {spec.grid.shape} solved in {time.perf_counter() - start:.1f} s -> {path}")
+        out.append(path)
+    return out
+
+
+def _to_numpy(values) -> np.ndarray:
+    if isinstance(values, torch.Tensor):
+        return values.detach().cpu().numpy()
+    return np.asarray(values)
+
+
+def load_value_function(params: Params, artifacts_dir: str | Path, name: str, verify: bool = True) -> StoredGrid:
+    """Open one stored value function ("ttr", "static_brt_<room>", "human_brt") checked against params."""
+    by_name = {s.name: s for s in specs(params)}
+    if name not in by_name:
+        raise ValueError(f"value function {name!r}: not built by hj_grids; names are {', '.join(by_name)}")
+    return load_grid(grid_path(artifacts_dir, name), by_name[name].inputs, verify=verify)
+
+
+def load_ttr(params: Params, artifacts_dir: str | Path, verify: bool = True) -> TTRLookup:
+    return TTRLookup(load_value_function(params, artifacts_dir, "ttr", verify))
+
+
+def load_static_brt(params: Params, artifacts_dir: str | Path, room: str, verify: bool = True) -> StaticBRTLookup:
+    return StaticBRTLookup(load_value_function(params, artifacts_dir, f"static_brt_{room}", verify))
+
+
+def load_human_brt(params: Params, artifacts_dir: str | Path, verify: bool = True) -> HumanBRTLookup:
+    return HumanBRTLookup(load_value_function(params, artifacts_dir, "human_brt", verify))

@@ -1,0 +1,239 @@
+"""The three value functions of HJ-search (paper Sec. VI): general TTR, static-map BRT, human-robot BRT.
+
+Pure functions of explicit arguments (dynamics, grid, geometry, settings); params.yaml is read elsewhere.
+Every function takes ``device`` (CPU default), ``dtype`` (float32 default), ``progress`` (tqdm) and
+``compile`` (torch.compile the numerical Hamiltonian; pays off on CUDA for large grids).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import torch
+
+from navlab.reach.dynamics import DubinsCar4D, Dynamics, HumanRobotRelative
+from navlab.reach.grid import Grid
+from navlab.reach.settings import DEFAULT_SETTINGS, SolverSettings
+from navlab.reach.solver import solve
+
+
+def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.float32) -> torch.Tensor:
+    """|(x_0, x_1)| − radius on the whole grid: a disk in the first two coordinates, a cylinder in the rest."""
+    x, y = grid.mesh(0, device, dtype), grid.mesh(1, device, dtype)
+    return (torch.sqrt(x * x + y * y) - radius).expand(grid.shape).contiguous()
+
+
+def time_to_reach(
+    dynamics: Dynamics,
+    grid: Grid,
+    target_values,
+    horizon: float,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    *,
+    stall_time: float | None = None,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+) -> torch.Tensor:
+    """Minimum time to reach {l ≤ 0}, by first entry into the growing reach tube (Mitchell et al. 2005).
+
+    The reach tube (control 'min', V = min(V, l)) is marched in τ; each state's TTR is the τ at which its
+    value first drops to ≤ 0, interpolated linearly inside the step. States never reached get
+    ``horizon``, a lower bound on their TTR. With ``stall_time``, the march stops once no new state has
+    been reached for that long (the reachable part of the grid is exhausted).
+    """
+    if dynamics.control_mode != "min":
+        raise ValueError(
+            "time_to_reach: the control must drive the state into the target: "
+            "build the dynamics with control_mode='min'"
+        )
+    settings = dataclasses.replace(
+        settings, value_postprocessor="backward_reachable_tube", convergence_band=None
+    )
+    target = torch.as_tensor(target_values, dtype=dtype).to(device)
+    ttr = torch.where(target <= 0, torch.zeros_like(target), torch.full_like(target, float("inf")))
+    last_growth = 0.0
+    first_entry = torch.compile(_first_entry, dynamic=False) if compile else _first_entry
+
+    def record_first_entry(tau, dt, previous, values):
+        nonlocal ttr, last_growth
+        start, step = (torch.tensor(t, dtype=dtype, device=device) for t in (tau - dt, dt))
+        ttr, any_entered = first_entry(ttr, previous, values, start, step)
+        if bool(any_entered):
+            last_growth = tau
+        return stall_time is not None and tau - last_growth > stall_time
+
+    solve(
+        dynamics,
+        grid,
+        target,
+        horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+        on_step=record_first_entry,
+    )
+    return ttr.clamp_(max=horizon)
+
+
+def _first_entry(ttr, previous, values, step_start, dt):
+    """TTR with the states that crossed V ≤ 0 in this step filled in (crossing time interpolated)."""
+    entered = (values <= 0) & torch.isinf(ttr)
+    fraction = (previous / (previous - values).clamp(min=1e-12)).clamp(0, 1)
+    return torch.where(entered, step_start + fraction * dt, ttr), entered.any()
+
+
+def general_ttr(
+    car: DubinsCar4D,
+    grid: Grid,
+    goal_radius: float,
+    horizon: float,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    *,
+    stall_time: float | None = 1.0,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+) -> torch.Tensor:
+    """Goal-centred TTR of the 4D car in free space (paper Sec. VI-A): goal = disk of ``goal_radius``
+    at the origin of the (x, y) axes; grid axes (x, y, v, θ)."""
+    _check_car_grid(grid, "general_ttr")
+    reach_car = dataclasses.replace(car, control_mode="min")
+    target = disk_signed_distance(grid, goal_radius, device, dtype)
+    return time_to_reach(
+        reach_car,
+        grid,
+        target,
+        horizon,
+        settings,
+        stall_time=stall_time,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+    )
+
+
+def avoid_tube(
+    dynamics: Dynamics,
+    grid: Grid,
+    failure_values,
+    horizon: float,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    *,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+):
+    """Avoid BRT value V(x, horizon) for the failure set {l < 0} (control 'max'); returns the Solution."""
+    if dynamics.control_mode != "max":
+        raise ValueError(
+            "avoid_tube: the control must keep away from the failure set: "
+            "build the dynamics with control_mode='max'"
+        )
+    settings = dataclasses.replace(settings, value_postprocessor="backward_reachable_tube")
+    return solve(
+        dynamics,
+        grid,
+        failure_values,
+        horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+    )
+
+
+def static_brt(
+    sdf_values,
+    car: DubinsCar4D,
+    grid: Grid,
+    *,
+    robot_radius: float,
+    max_horizon: float,
+    band: float,
+    tolerance: float,
+    window: float = 0.5,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+):
+    """Static-map avoid BRT (paper Sec. VI-B), run until the band |V| < ``band`` stops moving: by less
+    than ``tolerance`` (metres of value) over ``window`` seconds of horizon.
+
+    ``sdf_values``: signed distance to the obstacles (positive in free space) on the grid's (x, y)
+    nodes, indexed [i_x, i_y]; the failure set is {sdf < robot_radius}, broadcast over (v, θ).
+    Returns the Solution: ``.values`` the BRT value, ``.converged`` False if ``max_horizon`` came first.
+    """
+    _check_car_grid(grid, "static_brt")
+    sdf = torch.as_tensor(sdf_values, dtype=dtype).to(device)
+    if tuple(sdf.shape) != tuple(grid.shape[:2]):
+        raise ValueError(
+            f"static_brt: sdf_values has shape {tuple(sdf.shape)}, the grid's (x, y) nodes "
+            f"{grid.shape[:2]}; sample the signed distance on grid.axis(0) × grid.axis(1)"
+        )
+    failure = (sdf - robot_radius).reshape(*sdf.shape, 1, 1).expand(grid.shape).contiguous()
+    settings = dataclasses.replace(
+        settings, convergence_band=band, convergence_tolerance=tolerance, convergence_window=window
+    )
+    avoid_car = dataclasses.replace(car, control_mode="max")
+    return avoid_tube(
+        avoid_car,
+        grid,
+        failure,
+        max_horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+    )
+
+
+def human_brt(
+    relative: HumanRobotRelative,
+    grid: Grid,
+    *,
+    collision_radius: float,
+    horizon: float,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+) -> torch.Tensor:
+    """Human-robot avoid BRT over a fixed horizon (paper Sec. VI-C) on the (p_x, p_y, v) grid of
+    ``HumanRobotRelative``; collision when the human is within ``collision_radius`` of the robot."""
+    if grid.ndim != 3 or grid.periodic[:2] != (False, False):
+        raise ValueError("human_brt: the grid must be (p_x, p_y, v) with no periodic axis")
+    settings = dataclasses.replace(settings, convergence_band=None)
+    failure = disk_signed_distance(grid, collision_radius, device, dtype)
+    avoid = dataclasses.replace(relative, control_mode="max")
+    return avoid_tube(
+        avoid,
+        grid,
+        failure,
+        horizon,
+        settings,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+    ).values
+
+
+def _check_car_grid(grid: Grid, who: str):
+    if grid.ndim != 4 or grid.periodic != (False, False, False, True):
+        raise ValueError(
+            f"{who}: the grid must be (x, y, v, θ) with only θ periodic, got periodic={grid.periodic}"
+        )
+    if grid.lo[2] < 0:
+        raise ValueError(f"{who}: the speed axis must start at v >= 0, got lo={grid.lo[2]}")

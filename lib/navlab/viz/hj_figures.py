@@ -1,0 +1,66 @@
+"""Matplotlib figures in the style of the HJ-search paper: heuristic contours (Fig. 2), BRT slices (Fig. 3)."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import Circle, Rectangle
+
+from navlab.maps.rooms import Disc, Rect, Room
+
+
+def draw_room(ax, room: Room, color: str = "0.3") -> None:
+    """Walls and obstacles in room coordinates (x right, y up as in the paper's plots)."""
+    ax.add_patch(Rectangle((0, 0), room.width, room.height, fill=False, lw=2, ec=color))
+    for ob in room.obstacles:
+        if isinstance(ob, Rect):
+            ax.add_patch(Rectangle((ob.x0, ob.y0), ob.x1 - ob.x0, ob.y1 - ob.y0, color=color))
+        elif isinstance(ob, Disc):
+            ax.add_patch(Circle((ob.cx, ob.cy), ob.r, color=color))
+    ax.set_xlim(-0.1, room.width + 0.1)
+    ax.set_ylim(-0.1, room.height + 0.1)
+    ax.set_aspect("equal")
+
+
+def heuristic_contours(room: Room, fields: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]],
+                       robots: list[tuple[float, float, float, float]], goal, values: dict[tuple[int, str], float],
+                       levels: np.ndarray):
+    """Fig. 2: one column per heuristic, one row per robot state.
+
+    ``fields[name] = (X, Y, H)`` or a list of them per row (H over positions for that row's v, θ);
+    ``values[(row, name)]`` is the heuristic at the robot, printed in the panel title.
+    """
+    fig, axes = plt.subplots(len(robots), len(fields), figsize=(4.2 * len(fields), 2.8 * len(robots)),
+                             squeeze=False, constrained_layout=True)
+    for r, (x, y, v, th) in enumerate(robots):
+        for c, (name, field) in enumerate(fields.items()):
+            ax = axes[r, c]
+            X, Y, H = field[r] if isinstance(field, list) else field
+            cs = ax.contourf(X, Y, np.ma.masked_invalid(H), levels=levels, cmap="viridis", extend="max")
+            ax.contour(X, Y, np.ma.masked_invalid(H), levels=levels, colors="k", linewidths=0.3)
+            draw_room(ax, room)
+            ax.plot(*goal, marker="*", ms=14, color="gold", mec="k")
+            ax.arrow(x, y, 0.5 * np.cos(th), 0.5 * np.sin(th), width=0.06, color="red")
+            ax.set_title(f"{name}: {values[(r, name)]:.2f} s (v={v:.1f} m/s, θ={np.degrees(th):.0f}°)", fontsize=9)
+    fig.colorbar(cs, ax=axes, label="heuristic (s)", shrink=0.8)
+    return fig
+
+
+def brt_slices(room: Room, values: np.ndarray, grid, speeds, theta: float, speed_slice):
+    """Fig. 3: the static BRT {V < 0} at heading ``theta`` for several speeds (it grows with speed)."""
+    th_idx = round((theta - grid.lo[3]) / grid.spacing[3]) % grid.shape[3]
+    X, Y = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
+    fig, axes = plt.subplots(1, len(speeds) + 1, figsize=(3.6 * (len(speeds) + 1), 2.6), constrained_layout=True)
+    colors = plt.cm.plasma(np.linspace(0.1, 0.85, len(speeds)))
+    for ax, v, color in zip(axes, speeds, colors):
+        V = speed_slice(values, grid, v)[:, :, th_idx]
+        ax.contourf(X, Y, V, levels=[V.min() - 1, 0.0], colors=[color], alpha=0.6)
+        draw_room(ax, room)
+        ax.arrow(0.4, 0.4, 0.4 * np.cos(theta), 0.4 * np.sin(theta), width=0.05, color="k")
+        ax.set_title(f"v = {v:.2f} m/s: {100 * (V < 0).mean():.0f}% unsafe", fontsize=9)
+    ax = axes[-1]
+    for v, color in zip(speeds, colors):
+        ax.contour(X, Y, speed_slice(values, grid, v)[:, :, th_idx], levels=[0.0], colors=[color])
+    draw_room(ax, room)
+    ax.set_title(f"zero level sets, θ = {np.degrees(theta):.0f}°", fontsize=9)
+    return fig

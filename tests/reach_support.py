@@ -1,0 +1,44 @@
+"""Helpers shared by the reach tests: small-grid threading and an independent multilinear interpolator."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+
+
+@pytest.fixture(autouse=False)
+def single_thread():
+    """Small grids run faster on one thread, and a busy 2-core machine stalls OpenMP's second one."""
+    before = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(before)
+
+
+def interpolate(grid, values: torch.Tensor, points: list[torch.Tensor]) -> torch.Tensor:
+    """Multilinear interpolation of grid ``values`` at a batch of states (one 1-D tensor per axis).
+
+    Written independently of navlab's lookups on purpose: the tests should not trust the code under test.
+    Periodic axes wrap; others clamp to the grid.
+    """
+    index, weight = [], []
+    for d, x in enumerate(points):
+        pos = (x - grid.lo[d]) / grid.spacing[d]
+        n = grid.shape[d]
+        if grid.periodic[d]:
+            pos = torch.remainder(pos, n)
+            i0 = torch.floor(pos).long()
+            index.append((i0 % n, (i0 + 1) % n))
+        else:
+            pos = pos.clamp(0, n - 1)
+            i0 = torch.floor(pos).long().clamp(max=n - 2)
+            index.append((i0, i0 + 1))
+        weight.append(pos - i0)
+    out = torch.zeros_like(points[0])
+    for corner in range(2**grid.ndim):
+        bits = [(corner >> d) & 1 for d in range(grid.ndim)]
+        w = torch.ones_like(points[0])
+        for d, b in enumerate(bits):
+            w = w * (weight[d] if b else 1 - weight[d])
+        out += w * values[tuple(index[d][b] for d, b in enumerate(bits))]
+    return out

@@ -1,0 +1,96 @@
+"""The hj_grids artefact step: builds, re-uses, detects stale params, and its lookups keep their promises."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from navlab.core.io import DataError
+from navlab.maps.rooms import load_room
+from navlab.reach.precompute import (
+    build_hj_grids,
+    grid_path,
+    load_human_brt,
+    load_static_brt,
+    load_ttr,
+    load_value_function,
+    room_obstacle_distance,
+)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, smoke_params):
+    out = tmp_path_factory.mktemp("hj_art")
+    build_hj_grids(smoke_params, "unused", out, progress=False, log=lambda m: None)
+    return out
+
+
+def _with(params, **solver):
+    g = params.hj.grids
+    grids = dataclasses.replace(g, solver=dataclasses.replace(g.solver, **solver))
+    return dataclasses.replace(params, hj=dataclasses.replace(params.hj, grids=grids))
+
+
+def test_rebuild_reuses_current_files(built, smoke_params):
+    before = {p: p.stat().st_mtime_ns for p in (built / "hj").glob("*.npy")}
+    assert len(before) == 2 + len(smoke_params.hj.grids.rooms)
+    logs = []
+    build_hj_grids(smoke_params, "unused", built, progress=False, log=logs.append)
+    assert all("up to date" in m for m in logs) and len(logs) == len(before)
+    assert before == {p: p.stat().st_mtime_ns for p in (built / "hj").glob("*.npy")}
+
+
+def test_changed_params_make_grids_stale_with_the_stage_named(built, smoke_params):
+    with pytest.raises(DataError, match=r"stale.*solver\.cfl.*dvc repro hj_grids"):
+        load_ttr(_with(smoke_params, cfl=0.5), built)
+    with pytest.raises(ValueError, match="names are ttr, static_brt_simulation"):
+        load_value_function(smoke_params, built, "static_brt_kitchen")
+
+
+def test_corrupted_artefact_is_never_used(built, smoke_params, tmp_path):
+    import shutil
+
+    copy = tmp_path / "art"
+    shutil.copytree(built, copy)
+    path = grid_path(copy, "human_brt")
+    raw = bytearray(path.read_bytes())
+    raw[len(raw) // 2] ^= 0x01
+    path.write_bytes(bytes(raw))
+    with pytest.raises(DataError, match="corrupt"):
+        load_human_brt(smoke_params, copy)
+
+
+def test_ttr_lookup_zero_at_goal_and_admissible_outside(built, smoke_params):
+    ttr = load_ttr(smoke_params, built)
+    goal = np.array([2.0, 1.0])
+    at_goal = ttr(np.array([[2.0, 1.0, 0.5, 0.3]]), goal)
+    assert at_goal[0] == pytest.approx(0.0, abs=1e-6)
+    far = np.array([[2.0 + 10.0, 1.0, 0.0, 0.0]])
+    g = smoke_params.hj.grids
+    assert ttr(far, goal)[0] == pytest.approx((10.0 - g.ttr.goal_radius_m) / g.robot.v_max)
+    states = np.random.default_rng(0).uniform([-1, -2, 0, -math.pi], [5, 4, 1, math.pi], size=(300, 4))
+    np.testing.assert_allclose(ttr(states, goal), ttr(torch.from_numpy(states), torch.from_numpy(goal)).numpy(),
+                               atol=1e-9)
+    assert (ttr(states, goal) >= 0).all()
+
+
+@pytest.mark.parametrize("room_name", ["simulation", "dense_room"])
+def test_static_brt_contains_the_failure_set_and_walls_are_unsafe(built, smoke_params, room_name):
+    brt = load_static_brt(smoke_params, built, room_name)
+    room = load_room(room_name)
+    sdf = room_obstacle_distance(room, brt.grid) - smoke_params.hj.grids.robot.radius_m
+    values = np.asarray(brt.stored.values)
+    assert (values <= sdf[:, :, None, None] + 1e-5).all()        # V = min over time of l <= l
+    outside = np.array([[-0.5, 2.0, 0.5, 0.0], [5.0, 6.0, 0.0, 1.0]])
+    assert (brt(outside) < 0).all()
+    assert brt.stored.meta["inputs"]["room"]["name"] == room_name
+
+
+def test_human_brt_outside_domain_is_safe_and_collision_is_unsafe(built, smoke_params):
+    human = load_human_brt(smoke_params, built)
+    robot = np.array([[1.0, 1.0, 0.5, 0.7]] * 3)
+    people = np.array([[1.0, 1.0], [1.2, 1.1], [30.0, 1.0]])
+    v = human(robot, people)
+    assert v[0] < 0 and v[1] < 0 and v[2] > 0

@@ -1,0 +1,80 @@
+"""Grid artefacts: round trip, corruption and truncation detected, stale metadata names the stage."""
+
+import json
+
+import numpy as np
+import pytest
+
+from navlab.core.io import DataError
+from navlab.reach.grid import Grid
+from navlab.reach.store import is_current, load_grid, save_grid, sidecar_path
+
+GRID = Grid((-1.0, -1.0, 0.0), (1.0, 1.0, 2 * np.pi), (5, 4, 6), (False, False, True))
+INPUTS = {"kind": "test", "robot": {"v_max": 1.0}, "solver": {"scheme": "weno5", "cfl": 0.75}}
+
+
+@pytest.fixture
+def stored(tmp_path):
+    values = np.random.default_rng(0).normal(size=GRID.shape).astype(np.float32)
+    path = save_grid(tmp_path / "v.npy", values, GRID, INPUTS)
+    return path, values
+
+
+def test_round_trip(stored):
+    path, values = stored
+    got = load_grid(path, INPUTS)
+    np.testing.assert_array_equal(got.values, values)
+    assert got.grid == GRID and got.values.dtype == np.float32
+    assert got.meta["inputs"] == INPUTS and is_current(path, INPUTS)
+    assert not list(path.parent.glob(".*"))  # no temporary files left behind
+
+
+def test_stale_metadata_names_key_and_stage(stored):
+    path, _ = stored
+    changed = {**INPUTS, "solver": {"scheme": "eno2", "cfl": 0.75}}
+    assert not is_current(path, changed)
+    with pytest.raises(DataError, match=r"stale.*solver\.scheme.*dvc repro hj_grids.*--only hj_grids"):
+        load_grid(path, changed)
+
+
+def test_corrupt_byte_detected(stored):
+    path, _ = stored
+    raw = bytearray(path.read_bytes())
+    raw[-7] ^= 0xFF
+    path.write_bytes(bytes(raw))
+    with pytest.raises(DataError, match="corrupt.*dvc repro hj_grids"):
+        load_grid(path, INPUTS)
+
+
+def test_truncation_detected_even_without_checksum(stored):
+    path, _ = stored
+    path.write_bytes(path.read_bytes()[:-100])
+    assert not is_current(path, INPUTS)
+    with pytest.raises(DataError, match="truncated"):
+        load_grid(path, INPUTS, verify=False)
+
+
+def test_missing_sidecar_or_file(stored):
+    path, _ = stored
+    sidecar_path(path).unlink()
+    with pytest.raises(DataError, match="missing.*hj_grids"):
+        load_grid(path)
+    assert not is_current(path, INPUTS)
+
+
+def test_bad_sidecar_and_bad_values(stored, tmp_path):
+    path, values = stored
+    sidecar_path(path).write_text("{not json")
+    with pytest.raises(DataError, match="unreadable"):
+        load_grid(path)
+    with pytest.raises(ValueError, match="NaN"):
+        save_grid(tmp_path / "w.npy", np.full(GRID.shape, np.nan), GRID, INPUTS)
+    with pytest.raises(ValueError, match="do not match grid"):
+        save_grid(tmp_path / "w.npy", values[:2], GRID, INPUTS)
+
+
+def test_sidecar_is_plain_json_with_checksum(stored):
+    path, _ = stored
+    meta = json.loads(sidecar_path(path).read_text())
+    assert len(meta["sha256"]) == 64 and meta["nbytes"] == path.stat().st_size
+    assert meta["grid"]["shape"] == [5, 4, 6] and meta["grid"]["periodic"] == [False, False, True]
