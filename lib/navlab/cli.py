@@ -29,10 +29,12 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
+    from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.precompute import build_hj_grids
 
     return [
         ("hj_grids", build_hj_grids),
+        *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
     ]
 
 

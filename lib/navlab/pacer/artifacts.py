@@ -1,0 +1,61 @@
+"""Artefact builders of the pacer track (DVC stages ``pacer_*``): the three training phases and the baselines.
+
+Each writes one folder under ``artifacts/pacer/``: ``phase1``-``phase3`` (``model.pt``, ``checkpoint.pt``,
+``val_loss.tsv``), ``sterling`` (``encoder.pt``) and ``classifier`` (``classifier.pt``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from torch.utils.data import Subset
+
+from navlab.core.params import Params
+from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
+from navlab.pacer.baselines.sterling import save_sterling, train_sterling
+from navlab.pacer.datasets import pacer_dataset
+from navlab.pacer.terrain import load_terrain_bank
+from navlab.pacer.train import PHASE_DATASETS, PHASES, train_phase
+
+
+def phase_dir(artifacts_dir: str | Path, phase: str) -> Path:
+    return Path(artifacts_dir) / "pacer" / phase
+
+
+def _train(phase: str):
+    def step(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
+        bank = load_terrain_bank(data_dir, params.pacer.data)
+        names = PHASE_DATASETS[phase]
+        previous = PHASES.index(phase) - 1
+        train_phase(
+            params.pacer.model, params.pacer.train,
+            [pacer_dataset(params, data_dir, n, "train", bank) for n in names],
+            [Subset(ds, range(min(params.pacer.train.val_examples, len(ds))))
+             for ds in (pacer_dataset(params, data_dir, n, "val", bank) for n in names)],
+            phase_dir(artifacts_dir, phase), phase=phase, epochs=getattr(params.pacer.train.epochs, phase),
+            seed=params.pacer.seed, context_pairs=params.pacer.data.n_pairs,
+            init_from=phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
+        )
+    return step
+
+
+def build_sterling(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
+    """VICReg patch encoder on D_real's training images (no labels used)."""
+    real = pacer_dataset(params, data_dir, "real", "train")
+    b = params.pacer.baselines
+    encoder = train_sterling([real], b.sterling, b.patch_size, params.pacer.seed, params.pacer.train.device)
+    save_sterling(encoder, phase_dir(artifacts_dir, "sterling") / "encoder.pt")
+
+
+def build_classifier(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
+    """Patch classifier over the seen terrain labels of D_real's training images."""
+    real = pacer_dataset(params, data_dir, "real", "train")
+    b = params.pacer.baselines
+    model = train_classifier([real], b.classifier, b.patch_size, params.pacer.seed, params.pacer.train.device)
+    save_classifier(model, phase_dir(artifacts_dir, "classifier") / "classifier.pt")
+
+
+def artifact_steps() -> list:
+    """(name, fn(params, data_dir, artifacts_dir)) in dependency order."""
+    return [*[(f"pacer_{p}", _train(p)) for p in PHASES], ("pacer_sterling", build_sterling),
+            ("pacer_classifier", build_classifier)]

@@ -1,0 +1,83 @@
+"""Using a costmap: predicted costs over a large map, A* paths on them, and agreement with an ordering.
+
+PACER's aerial-map experiments (Sec. VI-A) give the robot its local BEV at each pose; we cover a large
+rendered map with overlapping BEV-sized windows instead, each window contributing only inside its
+field-of-view trapezoid (the only pixels the network was trained on), and plan once on the stitched
+map. The planner sees cost per metre 1 + cost_scale · c for predicted cost c ∈ [0, 1].
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from torch.nn import functional as F
+
+from navlab.pacer.aerial import EDGE_MARGIN
+from navlab.search.grid_astar import GridPath, plan
+
+
+@torch.no_grad()
+def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch.Tensor, fov_mask: np.ndarray,
+                     *, overlap: int = 2, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
+    """(H,W) costs of a large (3,H,W) map: windows of the FOV mask's size at stride window/overlap.
+
+    The map is reflect-padded by one window so border pixels fall inside some window's trapezoid too;
+    each pixel averages the predictions of the windows whose field of view covers it.
+    """
+    model.eval()
+    window = fov_mask.shape[0]
+    stride = max(1, window // overlap)
+    image = torch.as_tensor(image, dtype=torch.float32)
+    _, h, w = image.shape
+    padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
+    weight = torch.as_tensor(fov_mask, dtype=torch.float32)
+    tops = range(0, padded.shape[1] - window + 1, stride)
+    lefts = range(0, padded.shape[2] - window + 1, stride)
+    corners = [(r, c) for r in tops for c in lefts]
+    total = torch.zeros(padded.shape[1:])
+    hits = torch.zeros(padded.shape[1:])
+    ctx = torch.as_tensor(context, dtype=torch.float32)[None].to(device)
+    for start in range(0, len(corners), batch):
+        chunk = corners[start:start + batch]
+        windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in chunk])
+        costs = torch.sigmoid(model(windows.to(device), ctx.expand(len(chunk), -1, -1, -1))).cpu()
+        for (r, c), cost in zip(chunk, costs):
+            total[r:r + window, c:c + window] += cost * weight
+            hits[r:r + window, c:c + window] += weight
+    inner = (slice(window, window + h), slice(window, window + w))
+    return total[inner] / hits[inner].clamp_min(1e-6)
+
+
+def plan_on_costmap(costmap: np.ndarray, start, goal, cost_scale: float) -> GridPath:
+    """Optimal 8-connected A* path where a cell costs 1 + cost_scale · costmap per metre."""
+    return plan(1.0 + cost_scale * np.asarray(costmap, dtype=np.float64), start, goal)
+
+
+def crossing_queries(size: int, count: int, gen: np.random.Generator) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """``count`` (start, goal) cells near opposite edges of a square map (left-right or top-bottom, either
+    way), placed like the aerial maps' own query, so one map yields several crossings to score."""
+    near, far = round(EDGE_MARGIN * size), size - 1 - round(EDGE_MARGIN * size)
+    queries = []
+    for _ in range(count):
+        a, b = (int(v) for v in gen.integers(round(0.15 * size), round(0.85 * size), size=2))
+        ends = [(a, near), (b, far)] if gen.uniform() < 0.5 else [(near, a), (far, b)]
+        if gen.uniform() < 0.5:
+            ends.reverse()
+        queries.append((ends[0], ends[1]))
+    return queries
+
+
+def context_pair_agreement(predicted: np.ndarray, labels: np.ndarray, mask: np.ndarray,
+                           pairs: np.ndarray) -> tuple[int, int]:
+    """(agreeing, compared) context pairs: pair (a ≻ b) agrees when terrain a's mean predicted cost in view
+    is lower than b's. Pairs whose terrains are not both in view (or a = b) are not compared."""
+    predicted, labels = np.asarray(predicted), np.asarray(labels)
+    mask = np.asarray(mask, dtype=bool)
+    agree = compared = 0
+    for a, b in np.asarray(pairs, dtype=np.int64).reshape(-1, 2):
+        in_a, in_b = mask & (labels == a), mask & (labels == b)
+        if a == b or not in_a.any() or not in_b.any():
+            continue
+        compared += 1
+        agree += int(predicted[in_a].mean() < predicted[in_b].mean())
+    return agree, compared

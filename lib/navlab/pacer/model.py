@@ -1,0 +1,176 @@
+"""The PACER costmap network R̂(I, Ĥ) (Mao et al., RA-L 2025, Sec. IV-B).
+
+Two encoders and one decoder: a U-Net encoder F_BEV over the bird's-eye image, a preference-context
+encoder F_pref over the (n·c)×2h×w context tensor, and a U-Net decoder D that turns the fused
+bottleneck into one cost logit per pixel (sigmoid → cost in [0, 1]).
+
+Two fusions, chosen in params.yaml (`pacer.model.fusion`):
+
+- ``concat_mlp`` is the released code's: average-pool the bottleneck, concatenate the context
+  embedding, two linear layers, broadcast back over the bottleneck grid. With ``context_encoder:
+  resnet50`` and the paper's widths this is the ~573M-parameter network (``paper`` profile).
+- ``film`` (feature-wise linear modulation, Perez et al., AAAI 2018) scales and shifts the bottleneck
+  and every decoder stage by the context embedding; it keeps the bottleneck's spatial layout, which is
+  what lets a small CPU-sized model (``default``) tie costs to where each terrain is.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import torch
+from torch import nn
+from torch.nn import functional as F
+
+from navlab.core.params.pacer import PacerModelParams
+
+
+def conv_block(c_in: int, c_out: int) -> nn.Sequential:
+    """Two 3×3 convolutions, each with batch norm and ReLU (the U-Net unit)."""
+    return nn.Sequential(
+        nn.Conv2d(c_in, c_out, 3, padding=1), nn.BatchNorm2d(c_out), nn.ReLU(inplace=True),
+        nn.Conv2d(c_out, c_out, 3, padding=1), nn.BatchNorm2d(c_out), nn.ReLU(inplace=True),
+    )
+
+
+class ContextCNN(nn.Module):
+    """F_pref for small models: conv blocks with pooling, global average, one linear layer."""
+
+    def __init__(self, c_in: int, channels: tuple[int, ...], dim: int):
+        super().__init__()
+        layers, c = [], c_in
+        for width in channels:
+            layers += [conv_block(c, width), nn.MaxPool2d(2)]
+            c = width
+        self.features = nn.Sequential(*layers)
+        self.head = nn.Linear(c, dim)
+
+    def forward(self, context: torch.Tensor) -> torch.Tensor:
+        return self.head(self.features(context).mean(dim=(2, 3)))
+
+
+class Bottleneck(nn.Module):
+    """ResNet bottleneck block (1×1, 3×3, 1×1 with expansion 4) of He et al., CVPR 2016."""
+
+    def __init__(self, c_in: int, width: int, stride: int):
+        super().__init__()
+        c_out = 4 * width
+        self.body = nn.Sequential(
+            nn.Conv2d(c_in, width, 1, bias=False), nn.BatchNorm2d(width), nn.ReLU(inplace=True),
+            nn.Conv2d(width, width, 3, stride=stride, padding=1, bias=False), nn.BatchNorm2d(width),
+            nn.ReLU(inplace=True), nn.Conv2d(width, c_out, 1, bias=False), nn.BatchNorm2d(c_out),
+        )
+        self.shortcut = nn.Identity() if stride == 1 and c_in == c_out else nn.Sequential(
+            nn.Conv2d(c_in, c_out, 1, stride=stride, bias=False), nn.BatchNorm2d(c_out))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return F.relu(self.body(x) + self.shortcut(x))
+
+
+class ContextResNet50(nn.Module):
+    """F_pref of the released code: ResNet-50 with a 3×3 stride-1 stem and no max-pool (small patches)."""
+
+    def __init__(self, c_in: int, dim: int):
+        super().__init__()
+        layers = [nn.Conv2d(c_in, 64, 3, padding=1, bias=False), nn.BatchNorm2d(64), nn.ReLU(inplace=True)]
+        c = 64
+        for width, blocks, stride in ((64, 3, 1), (128, 4, 2), (256, 6, 2), (512, 3, 2)):
+            for i in range(blocks):
+                layers.append(Bottleneck(c, width, stride if i == 0 else 1))
+                c = 4 * width
+        self.features = nn.Sequential(*layers)
+        self.head = nn.Identity() if dim == c else nn.Linear(c, dim)
+
+    def forward(self, context: torch.Tensor) -> torch.Tensor:
+        return self.head(self.features(context).mean(dim=(2, 3)))
+
+
+class FiLM(nn.Module):
+    """x ↦ (1 + γ(z)) · x + β(z): the context embedding z scales and shifts each channel."""
+
+    def __init__(self, dim: int, channels: int):
+        super().__init__()
+        self.affine = nn.Linear(dim, 2 * channels)
+        nn.init.zeros_(self.affine.weight)
+        nn.init.zeros_(self.affine.bias)
+
+    def forward(self, x: torch.Tensor, z: torch.Tensor) -> torch.Tensor:
+        gamma, beta = self.affine(z)[:, :, None, None].chunk(2, dim=1)
+        return (1 + gamma) * x + beta
+
+
+class UpBlock(nn.Module):
+    """Transposed convolution ×2, concatenation with the encoder skip, conv block."""
+
+    def __init__(self, c_in: int, c_out: int):
+        super().__init__()
+        self.up = nn.ConvTranspose2d(c_in, c_out, 2, stride=2)
+        self.conv = conv_block(2 * c_out, c_out)
+
+    def forward(self, x: torch.Tensor, skip: torch.Tensor) -> torch.Tensor:
+        return self.conv(torch.cat([self.up(x), skip], dim=1))
+
+
+class PacerNet(nn.Module):
+    """R̂(I, Ĥ): BEV image (B,3,H,W) and context (B,3n,2h,w) → cost logits (B,H,W)."""
+
+    def __init__(self, cfg: PacerModelParams, context_pairs: int = 3, colour_channels: int = 3):
+        super().__init__()
+        self.cfg = cfg
+        widths = tuple(cfg.image_channels)
+        self.down = nn.ModuleList(conv_block(c, w) for c, w in zip((colour_channels, *widths[:-1]), widths))
+        self.bottleneck = conv_block(widths[-1], cfg.bottleneck_channels)
+        c_ctx = colour_channels * context_pairs
+        self.context_encoder = (ContextResNet50(c_ctx, cfg.context_dim) if cfg.context_encoder == "resnet50"
+                                else ContextCNN(c_ctx, tuple(cfg.context_channels), cfg.context_dim))
+        ups = (cfg.bottleneck_channels, *widths[::-1])
+        self.up = nn.ModuleList(UpBlock(c, w) for c, w in itertools.pairwise(ups))
+        if cfg.fusion == "film":
+            self.film = nn.ModuleList(FiLM(cfg.context_dim, c) for c in ups)
+        else:
+            b = cfg.bottleneck_channels
+            self.fuse = nn.Sequential(nn.Linear(b + cfg.context_dim, b + cfg.context_dim // 2),
+                                      nn.Linear(b + cfg.context_dim // 2, b))
+        self.out = nn.Conv2d(widths[0], 1, 1)
+
+    @property
+    def stride(self) -> int:
+        """Image height and width must be multiples of this (one max-pool per encoder stage)."""
+        return 2 ** len(self.down)
+
+    def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        h, w = image.shape[-2:]
+        if h % self.stride or w % self.stride:
+            raise ValueError(f"image size {h}x{w}: height and width must be multiples of {self.stride} "
+                             f"(2 ** len(pacer.model.image_channels)); change the BEV size in params.yaml")
+        z = self.context_encoder(context)
+        skips, x = [], image
+        for block in self.down:
+            x = block(x)
+            skips.append(x)
+            x = F.max_pool2d(x, 2)
+        x = self.bottleneck(x)
+        if self.cfg.fusion == "film":
+            x = self.film[0](x, z)
+        else:
+            pooled = x.mean(dim=(2, 3))
+            x = self.fuse(torch.cat([pooled, z], dim=1))[:, :, None, None].expand_as(x)
+        for i, (block, skip) in enumerate(zip(self.up, reversed(skips))):
+            x = block(x, skip)
+            if self.cfg.fusion == "film":
+                x = self.film[i + 1](x, z)
+        return self.out(x)[:, 0]
+
+    @torch.no_grad()
+    def costmap(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        """Costs in [0, 1] (eval mode, no gradients): what a planner reads."""
+        return torch.sigmoid(self(image, context))
+
+
+def build_model(cfg: PacerModelParams, *, context_pairs: int = 3, device: str | torch.device = "cpu") -> PacerNet:
+    """A freshly initialised network on ``device`` (initialisation draws from torch's global seed)."""
+    return PacerNet(cfg, context_pairs=context_pairs).to(device)
+
+
+def count_parameters(model: nn.Module) -> int:
+    return sum(p.numel() for p in model.parameters())

@@ -1,0 +1,162 @@
+"""PACER's staged training (Sec. V-C): phase 1 D_real → phase 2 + D_shuffled → phase 3 + D_synthetic.
+
+Each phase starts from the previous phase's weights. An epoch draws ``examples_per_epoch`` examples,
+first a dataset uniformly among the phase's datasets (as the paper does), then an example uniformly
+within it; the draw is keyed by (seed, phase, epoch), and datasets that render examples on the fly
+are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run resumed from a checkpoint sees exactly
+the batches an uninterrupted run would have seen and ends at the same weights.
+
+Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the final
+weights), ``val_loss.tsv`` (one row per epoch, for `dvc plots`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch.utils.data import Dataset
+from tqdm.auto import tqdm
+
+from navlab.core.io import DataError, atomic_path, sha256_file, sha256_json, write_text
+from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
+from navlab.core.seeding import rng
+from navlab.pacer.loss import masked_bce
+from navlab.pacer.model import PacerNet, build_model
+
+PHASES = ("phase1", "phase2", "phase3")
+PHASE_DATASETS = {"phase1": ("real",), "phase2": ("real", "shuffled"), "phase3": ("real", "shuffled", "synthetic")}
+BATCH_KEYS = ("image", "context", "costmap", "fov_mask")
+
+
+def collate(items: Sequence[dict]) -> dict[str, torch.Tensor]:
+    """Stack the tensors the loss needs; other keys (labels, ordering) stay with the datasets."""
+    return {k: torch.stack([torch.as_tensor(np.asarray(it[k])) for it in items]) for k in BATCH_KEYS}
+
+
+def epoch_draws(sizes: Sequence[int], count: int, seed: int, phase: str, epoch: int) -> list[tuple[int, int]]:
+    """``count`` (dataset, example) pairs: dataset uniform over the phase's sets, example uniform within."""
+    if not sizes or min(sizes) == 0:
+        raise ValueError(f"{phase}: every training dataset needs at least one example (sizes {list(sizes)})")
+    gen = rng(seed, "pacer.train", phase, epoch)
+    which = gen.integers(0, len(sizes), size=count)
+    index = (gen.random(count) * np.asarray(sizes)[which]).astype(np.int64)
+    return list(zip(which.tolist(), index.tolist()))
+
+
+def batch_loss(model: PacerNet, batch: dict[str, torch.Tensor], device) -> torch.Tensor:
+    logits = model(batch["image"].to(device, torch.float32), batch["context"].to(device, torch.float32))
+    return masked_bce(logits, batch["costmap"].to(device), batch["fov_mask"].to(device))
+
+
+@torch.no_grad()
+def validation_loss(model: PacerNet, datasets: Sequence[Dataset], batch_size: int, device="cpu") -> float:
+    """Mean masked BCE over every example of ``datasets`` (eval mode); NaN when there are none."""
+    model.eval()
+    total, count = 0.0, 0
+    for ds in datasets:
+        for start in range(0, len(ds), batch_size):
+            items = [ds[i] for i in range(start, min(start + batch_size, len(ds)))]
+            total += batch_loss(model, collate(items), device).item() * len(items)
+            count += len(items)
+    return total / count if count else float("nan")
+
+
+def _fingerprint(model_cfg, train_cfg, seed, phase, sizes, init_from) -> str:
+    """What a checkpoint must match to be resumed (epochs excluded: raising them continues a run)."""
+    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("epochs", "device")}
+    init = sha256_file(init_from) if init_from is not None else None
+    return sha256_json([dataclasses.asdict(model_cfg), train, seed, phase, list(sizes), init])
+
+
+def _save(obj, path: Path) -> None:
+    with atomic_path(path) as tmp:
+        torch.save(obj, tmp)
+
+
+def _write_log(rows: list[dict], path: Path) -> None:
+    lines = ["epoch\ttrain_loss\tval_loss"] + [f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}"
+                                               for r in rows]
+    write_text(path, "\n".join(lines) + "\n")
+
+
+def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet:
+    """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
+                        f"pacer_{path.parent.name}` (or `dvc repro`)")
+    saved = torch.load(path, map_location=device, weights_only=False)
+    model = build_model(PacerModelParams(**saved["model_config"]), context_pairs=saved["context_pairs"],
+                        device=device)
+    model.load_state_dict(saved["weights"])
+    return model.eval()
+
+
+def train_phase(
+    model_cfg: PacerModelParams,
+    train_cfg: PacerTrainParams,
+    train_sets: Sequence[Dataset],
+    val_sets: Sequence[Dataset],
+    out_dir: str | Path,
+    *,
+    phase: str,
+    epochs: int,
+    seed: int,
+    context_pairs: int = 3,
+    init_from: str | Path | None = None,
+    progress: bool = True,
+) -> Path:
+    """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``."""
+    out_dir = Path(out_dir)
+    device = torch.device(train_cfg.device)
+    torch.set_num_threads(train_cfg.threads)
+    init_from = Path(init_from) if init_from is not None else None
+    sizes = [len(ds) for ds in train_sets]
+    fingerprint = _fingerprint(model_cfg, train_cfg, seed, phase, sizes, init_from)
+
+    torch.manual_seed(seed)  # layer initialisation of phase 1
+    model = build_model(model_cfg, context_pairs=context_pairs, device=device)
+    optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
+    rows: list[dict] = []
+    checkpoint_path = out_dir / "checkpoint.pt"
+    checkpoint = torch.load(checkpoint_path, map_location=device, weights_only=False) \
+        if checkpoint_path.is_file() else None
+    if checkpoint is not None and checkpoint["fingerprint"] == fingerprint:
+        model.load_state_dict(checkpoint["weights"])
+        optimiser.load_state_dict(checkpoint["optimiser"])
+        rows = checkpoint["log"]
+    elif init_from is not None:
+        model.load_state_dict(load_model(init_from, device).state_dict())
+
+    bar = tqdm(range(len(rows), epochs), desc=f"PACER {phase}", disable=not progress, initial=len(rows),
+               total=epochs)
+    for epoch in bar:
+        model.train()
+        for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
+            if hasattr(ds, "set_epoch"):
+                ds.set_epoch(epoch)
+        draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
+        losses = []
+        for start in range(0, len(draws), train_cfg.batch_size):
+            items = [train_sets[d][i] for d, i in draws[start:start + train_cfg.batch_size]]
+            loss = batch_loss(model, collate(items), device)
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+            losses.append(loss.item())
+        val = validation_loss(model, val_sets, train_cfg.batch_size, device)
+        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val})
+        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}")
+        _save({"fingerprint": fingerprint, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
+               "log": rows}, checkpoint_path)
+        _write_log(rows, out_dir / "val_loss.tsv")
+
+    _write_log(rows, out_dir / "val_loss.tsv")
+    model_path = out_dir / "model.pt"
+    _save({"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
+           "weights": model.state_dict(), "phase": phase, "epochs": len(rows)}, model_path)
+    return model_path

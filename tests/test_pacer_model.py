@@ -1,0 +1,252 @@
+"""PACER model, loss, staged training and baselines on tiny synthetic examples (shapes as navlab.pacer.datasets)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import torch
+
+from navlab.core.params import load_params
+from navlab.core.seeding import rng
+from navlab.pacer.baselines.semantic_classifier import train_classifier
+from navlab.pacer.baselines.sterling import SterlingEncoder, augment, train_sterling, vicreg_loss
+from navlab.pacer.loss import masked_bce
+from navlab.pacer.model import build_model
+from navlab.pacer.train import epoch_draws, load_model, train_phase
+
+H, W, PATCH = 32, 32, 8
+COLOURS = {0: (0.8, 0.2, 0.2), 1: (0.2, 0.3, 0.9), 2: (0.2, 0.8, 0.3)}  # three flat, noisy "terrains"
+
+
+def texture(label: int, shape, gen) -> np.ndarray:
+    base = np.asarray(COLOURS[label], dtype=np.float32)[:, None, None]
+    return np.clip(base + 0.05 * gen.standard_normal((3, *shape)), 0, 1).astype(np.float32)
+
+
+class TinyTerrainSet(torch.utils.data.Dataset):
+    """Two terrains split left/right, a trapezoid field of view, 3 context pairs: the datasets' item layout."""
+
+    def __init__(self, size: int, ordering=(0, 1, 2), seed: int = 0):
+        self.size, self.ordering, self.seed = size, tuple(ordering), seed
+
+    def __len__(self):
+        return self.size
+
+    def __getitem__(self, i):
+        gen = rng(self.seed, "tiny", i)
+        a, b = gen.choice(3, size=2, replace=False)
+        split = int(gen.integers(8, W - 8))
+        labels = np.where(np.arange(W)[None, :] < split, a, b).repeat(H, 0).astype(np.int64)
+        image = np.where(labels[None] == a, texture(a, (H, W), gen), texture(b, (H, W), gen))
+        rows, cols = np.mgrid[0:H, 0:W]
+        fov = np.abs(cols - W / 2) <= 4 + rows * 0.5  # widening towards the robot (bottom)
+        rank = {lab: r for r, lab in enumerate(self.ordering)}
+        costmap = np.vectorize(lambda v: rank[v] / 2)(labels).astype(np.float32)
+        pairs = [(self.ordering[0], self.ordering[1]), (self.ordering[1], self.ordering[2]),
+                 (self.ordering[0], self.ordering[2])]
+        context = np.concatenate([np.concatenate([texture(p, (PATCH, PATCH), gen), texture(q, (PATCH, PATCH), gen)],
+                                                 axis=1) for p, q in pairs])
+        return {"image": image, "context": context, "costmap": costmap, "fov_mask": fov, "labels": labels,
+                "ordering": self.ordering}
+
+
+@pytest.fixture(scope="module")
+def smoke():
+    return load_params("smoke").pacer
+
+
+def tiny_train_cfg(smoke, **changes):
+    return dataclasses.replace(smoke.train, examples_per_epoch=8, batch_size=4, threads=1, **changes)
+
+
+def test_loss_ignores_pixels_outside_the_field_of_view():
+    gen = torch.Generator().manual_seed(0)
+    logits = torch.randn(2, H, W, generator=gen, requires_grad=True)
+    target = torch.rand(2, H, W, generator=gen)
+    fov = torch.as_tensor(np.stack([TinyTerrainSet(2)[i]["fov_mask"] for i in range(2)]))
+    loss = masked_bce(logits, target, fov)
+    loss.backward()
+    assert torch.all(logits.grad[~fov] == 0) and torch.any(logits.grad[fov] != 0)
+    changed = logits.detach().clone()
+    changed[~fov] = torch.randn(int((~fov).sum()), generator=gen) * 100
+    assert torch.allclose(masked_bce(changed, target, fov), loss)
+    inside = torch.nn.functional.binary_cross_entropy_with_logits(logits[fov], target[fov])
+    assert torch.allclose(loss, inside)
+    with pytest.raises(ValueError, match="same shape"):
+        masked_bce(logits, target[:, :-1], fov)
+
+
+@pytest.mark.parametrize("profile", ["smoke", "default"])
+def test_model_output_shape_and_range(profile):
+    torch.manual_seed(0)
+    model = build_model(load_params(profile).pacer.model).eval()
+    item = TinyTerrainSet(1)[0]
+    image = torch.as_tensor(item["image"])[None].repeat(2, 1, 1, 1)
+    context = torch.as_tensor(item["context"])[None].repeat(2, 1, 1, 1)
+    logits = model(image, context)
+    assert logits.shape == (2, H, W)
+    cost = model.costmap(image * 0 + 10, context)  # extreme input: still a cost in [0, 1]
+    assert cost.min() >= 0 and cost.max() <= 1
+    with pytest.raises(ValueError, match="multiples of"):
+        model(image[..., :30], context)
+
+
+def test_context_changes_the_costmap(smoke):
+    torch.manual_seed(0)
+    model = build_model(smoke.model).eval()
+    for film in model.film:  # FiLM starts as identity; give it weights so the context can act
+        torch.nn.init.normal_(film.affine.weight, std=0.5)
+    a, b = TinyTerrainSet(2)[0], TinyTerrainSet(2, ordering=(2, 1, 0))[0]
+    image = torch.as_tensor(a["image"])[None]
+    out_a = model(image, torch.as_tensor(a["context"])[None])
+    out_b = model(image, torch.as_tensor(b["context"])[None])
+    assert not torch.allclose(out_a, out_b)
+
+
+def test_epoch_draws_cover_every_dataset_and_repeat():
+    draws = epoch_draws([5, 100], 400, seed=0, phase="phase2", epoch=3)
+    which = np.array([d for d, _ in draws])
+    assert 0.4 < which.mean() < 0.6  # datasets uniformly, not examples
+    assert all(0 <= i < (5, 100)[d] for d, i in draws)
+    assert draws == epoch_draws([5, 100], 400, seed=0, phase="phase2", epoch=3)
+    assert draws != epoch_draws([5, 100], 400, seed=0, phase="phase2", epoch=4)
+
+
+class Killed(Exception):
+    pass
+
+
+class KillAfter(torch.utils.data.Dataset):
+    """Raises after ``limit`` reads, as a killed process stops mid-epoch."""
+
+    def __init__(self, inner, limit):
+        self.inner, self.limit, self.reads = inner, limit, 0
+
+    def __len__(self):
+        return len(self.inner)
+
+    def __getitem__(self, i):
+        self.reads += 1
+        if self.reads > self.limit:
+            raise Killed
+        return self.inner[i]
+
+
+def test_resume_after_a_kill_matches_an_uninterrupted_run(smoke, tmp_path):
+    cfg = tiny_train_cfg(smoke)
+    train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
+    whole = train_phase(smoke.model, cfg, [train], [val], tmp_path / "whole", phase="phase1", epochs=2, seed=0,
+                        progress=False)
+    with pytest.raises(Killed):  # dies in the middle of epoch 2, after epoch 1's checkpoint
+        train_phase(smoke.model, cfg, [KillAfter(train, 12)], [val], tmp_path / "resumed", phase="phase1",
+                    epochs=2, seed=0, progress=False)
+    assert (tmp_path / "resumed" / "checkpoint.pt").is_file() and not (tmp_path / "resumed" / "model.pt").exists()
+    resumed = train_phase(smoke.model, cfg, [train], [val], tmp_path / "resumed", phase="phase1", epochs=2,
+                          seed=0, progress=False)
+    a, b = load_model(whole).state_dict(), load_model(resumed).state_dict()
+    assert all(torch.equal(a[k], b[k]) for k in a)
+    log = (tmp_path / "resumed" / "val_loss.tsv").read_text().splitlines()
+    assert log[0].split("\t") == ["epoch", "train_loss", "val_loss"] and len(log) == 3
+    assert log == (tmp_path / "whole" / "val_loss.tsv").read_text().splitlines()
+
+
+def test_phase_two_starts_from_phase_one_weights(smoke, tmp_path):
+    cfg = tiny_train_cfg(smoke)
+    train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
+    first = train_phase(smoke.model, cfg, [train], [val], tmp_path / "p1", phase="phase1", epochs=2, seed=0,
+                        progress=False)
+    slow = dataclasses.replace(cfg, lr=1e-6)
+    second = train_phase(smoke.model, slow, [train, TinyTerrainSet(16, (2, 0, 1))], [val], tmp_path / "p2",
+                         phase="phase2", epochs=1, seed=0, init_from=first, progress=False)
+    fresh = train_phase(smoke.model, slow, [train], [val], tmp_path / "fresh", phase="phase2", epochs=1, seed=0,
+                        progress=False)
+    w1, w2, w0 = (dict(load_model(p).named_parameters()) for p in (first, second, fresh))
+    moved_from_phase1 = max((w2[k] - w1[k]).abs().max().item() for k in w1)
+    fresh_gap = max((w0[k] - w1[k]).abs().max().item() for k in w1)
+    assert moved_from_phase1 < 1e-4 < fresh_gap
+
+
+def test_semantic_classifier_separates_terrains(smoke):
+    data = [TinyTerrainSet(12)]
+    cfg = dataclasses.replace(smoke.baselines.classifier, epochs=3, patches_per_epoch=96, batch_size=16, lr=0.01)
+    model = train_classifier(data, cfg, PATCH, seed=0, progress=False)
+    assert set(model.labels) <= {0, 1, 2}
+    item = TinyTerrainSet(4, seed=7)[0]
+    predicted = model.label_map(torch.as_tensor(item["image"])).numpy()
+    split = int(np.argmax(item["labels"][0] != item["labels"][0, 0]))
+    cols = np.arange(W)[None, :].repeat(H, 0)
+    interior = (np.abs(cols - split) >= PATCH) & (cols < W - PATCH)  # away from the boundary and the edge
+    assert (predicted[interior] == item["labels"][interior]).mean() > 0.9
+    costs = model.costmap(torch.as_tensor(item["image"]), {0: 0.0, 1: 0.5, 2: 1.0})
+    assert costs.shape == (H, W)
+    with pytest.raises(ValueError, match="lacks seen labels"):
+        model.costmap(torch.as_tensor(item["image"]), {0: 0.0})
+
+
+def test_vicreg_terms():
+    gen = torch.Generator().manual_seed(0)
+    z = torch.randn(64, 8, generator=gen) * 2
+    collapsed = torch.zeros(64, 8)
+    assert vicreg_loss(z, z, (25, 25, 1)) < vicreg_loss(collapsed, collapsed, (25, 25, 1))
+    assert vicreg_loss(z, z, (1, 0, 0)) == 0 and vicreg_loss(z, z + 1, (1, 0, 0)) == pytest.approx(1.0)
+    views = augment(torch.rand(4, 3, 8, 8, generator=gen), gen)
+    assert views.shape == (4, 3, 8, 8) and views.min() >= 0 and views.max() <= 1
+
+
+def test_sterling_utility_follows_the_context(smoke):
+    cfg = dataclasses.replace(smoke.baselines.sterling, epochs=2, patches_per_epoch=64, batch_size=32)
+    model = train_sterling([TinyTerrainSet(12)], cfg, PATCH, seed=0, progress=False)
+    assert isinstance(model, SterlingEncoder)
+    for ordering in ((0, 1, 2), (2, 1, 0)):
+        item = TinyTerrainSet(4, ordering=ordering, seed=3)[1]
+        utility = model.fit_utility(torch.as_tensor(item["context"]), steps=100)
+        cost = model.costmap(torch.as_tensor(item["image"]), utility).numpy()
+        present = np.unique(item["labels"])
+        means = {lab: cost[item["labels"] == lab].mean() for lab in present}
+        best, worst = sorted(present, key=ordering.index)
+        assert means[best] < means[worst]
+
+
+class PixelModel(torch.nn.Module):
+    """A per-pixel 'network' (logit = 4·(red − 0.5)): stitched windows must reproduce it exactly."""
+
+    def forward(self, image, context):
+        return 4 * (image[:, 0] - 0.5)
+
+
+def test_costmap_over_map_stitches_fov_windows_exactly():
+    from navlab.pacer.bev import fov_mask
+    from navlab.pacer.evaluate import costmap_over_map
+
+    gen = torch.Generator().manual_seed(0)
+    image = torch.rand(3, 48, 40, generator=gen)
+    mask = fov_mask(16, 0.35)
+    for overlap in (2, 4):
+        cost = costmap_over_map(PixelModel(), image, torch.zeros(9, 16, 8), mask, overlap=overlap)
+        assert cost.shape == (48, 40)
+        assert torch.allclose(cost, torch.sigmoid(4 * (image[0] - 0.5)), atol=1e-5)
+
+
+def test_context_pair_agreement_counts_visible_pairs():
+    from navlab.pacer.evaluate import context_pair_agreement
+
+    labels = np.array([[0, 0, 1, 1], [2, 2, 1, 1]])
+    mask = np.ones_like(labels, dtype=bool)
+    predicted = np.array([[0.1, 0.1, 0.5, 0.5], [0.9, 0.9, 0.5, 0.5]])
+    # 0 ≻ 1 agrees, 2 ≻ 1 disagrees, 3 is not in view, a self-pair is skipped
+    assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1], [3, 0], [1, 1]])) == (1, 2)
+    mask[1] = False  # terrain 2 leaves the view
+    assert context_pair_agreement(predicted, labels, mask, np.array([[0, 1], [2, 1]])) == (1, 1)
+
+
+def test_crossing_queries_span_opposite_edges():
+    from navlab.pacer.evaluate import crossing_queries
+
+    queries = crossing_queries(100, 40, rng(0, "queries"))
+    assert queries == crossing_queries(100, 40, rng(0, "queries"))
+    for start, goal in queries:
+        assert all(0 <= v < 100 for v in (*start, *goal))
+        # one coordinate goes from one edge band to the other: the path must cross the map
+        assert max(abs(start[0] - goal[0]), abs(start[1] - goal[1])) >= 90
