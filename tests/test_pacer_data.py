@@ -11,9 +11,10 @@ import torch
 
 from navlab.core.params import ParamsError
 from navlab.core.seeding import rng
+from navlab.maps.dataset import load_maps
 from navlab.metrics.cost_tiers import cost_tier_proportions
 from navlab.metrics.margin_ranking import margin_ranking_error
-from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.aerial import aerial_map, aerial_maps, semantic_map_regions
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import preference_context, preference_pairs, stack_context
 from navlab.pacer.datasets import PacerDataset, Recipe, evaluation_dataset, max_terrains, pacer_dataset
@@ -206,7 +207,7 @@ def test_items_have_the_documented_layout_and_collate(bank, smoke_params):
     assert 0 <= batch["costmap"].min() and batch["costmap"].max() <= 1
 
 
-def test_items_and_maps_are_deterministic_per_seed_and_index(bank, smoke_params):
+def test_items_and_maps_are_deterministic_per_seed_and_index(bank, smoke_params, smoke_data):
     data = smoke_params.pacer.data
     first = PacerDataset(bank, data, Recipe("real", "real", "seen", "realistic"), "train", 4, seed=0)
     same = PacerDataset(bank, data, Recipe("real", "real", "seen", "realistic"), "train", 4, seed=0)
@@ -221,7 +222,7 @@ def test_items_and_maps_are_deterministic_per_seed_and_index(bank, smoke_params)
     first.set_epoch(3)  # augmentation: a fresh draw per epoch, itself reproducible
     assert first.item(0)["image"].tobytes() != same.item(0)["image"].tobytes()
     assert first.item(0)["image"].tobytes() == first.item(0)["image"].tobytes()
-    maps, again = (aerial_maps(smoke_params, None, "unseen", bank=bank) for _ in range(2))
+    maps, again = (aerial_maps(smoke_params, smoke_data, "unseen", bank=bank) for _ in range(2))
     assert all(m.image.tobytes() == n.image.tobytes() and m.start == n.start for m, n in zip(maps, again, strict=True))
 
 
@@ -278,15 +279,36 @@ def test_inverted_evaluation_reverses_costs_on_the_same_images(bank, smoke_param
         assert (rank[c["pairs"][:, 0]] < rank[c["pairs"][:, 1]]).all()
 
 
-def test_aerial_maps_cover_one_group_with_endpoints_on_opposite_edges(bank, smoke_params):
-    size = smoke_params.pacer.data.aerial.size
+@pytest.mark.parametrize("layout", ["procedural", "surenav"])
+def test_aerial_maps_cover_one_group_with_endpoints_on_opposite_edges(bank, smoke_params, smoke_data, layout):
+    params = _with_aerial_layout(smoke_params, layout)
+    size = params.pacer.data.aerial.size
     for group in ("seen", "unseen"):
-        for m in aerial_maps(smoke_params, None, group, bank=bank):
+        for m in aerial_maps(params, smoke_data, group, bank=bank):
             assert m.image.shape == (3, size, size) and m.labels.shape == (size, size)
             assert set(np.unique(m.labels).tolist()) == set(m.terrains.tolist()) <= set(bank.ids(group).tolist())
             assert len(m.terrains) >= 2
             (r0, c0), (r1, c1) = m.start, m.goal
             assert max(abs(r0 - r1), abs(c0 - c1)) >= 0.8 * size
+
+
+def _with_aerial_layout(params, layout):
+    data = params.pacer.data
+    aerial = dataclasses.replace(data.aerial, layout=layout)
+    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=dataclasses.replace(data, aerial=aerial)))
+
+
+def test_surenav_aerial_maps_give_each_semantic_label_one_terrain(bank, smoke_params, smoke_data):
+    params = _with_aerial_layout(smoke_params, "surenav")
+    semantic_maps = load_maps(smoke_data, "test")
+    size = params.pacer.data.aerial.size
+    for index in range(3):
+        window = semantic_map_regions(semantic_maps, size, rng(params.pacer.seed, "pacer-aerial", "seen", index))
+        m = aerial_map(bank, params.pacer.data, "seen", index, params.pacer.seed, semantic_maps)
+        for region in np.unique(window):  # a region (one semantic label) is painted with exactly one terrain
+            assert len(np.unique(m.labels[window == region])) == 1
+    with pytest.raises(ValueError, match="needs the SuReNav maps"):
+        aerial_map(bank, params.pacer.data, "seen", 0, params.pacer.seed)
 
 
 # --- metrics ----------------------------------------------------------------------------------------------

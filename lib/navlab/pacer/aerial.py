@@ -1,14 +1,18 @@
 """Rendered aerial maps for the navigation experiments (PACER Sec. VI-A, Tables I-II).
 
 The paper plans with A* over drone orthophotos of its campus (seen) and OpenAerialMap tiles (unseen).
-Ours are large rendered maps: an aerial label layout (many warped Voronoi regions and a few trails
-from edge to edge) over 3-5 terrains of one group, textured at the BEV images' ground scale (a window
-of ``image_size`` pixels is one BEV image's footprint), with a start and a goal near opposite edges.
-The hidden total ordering for scoring is the realistic one (or its inversion) over ``terrains``.
+Ours are large rendered maps over 3-5 terrains of one group, textured at the BEV images' ground scale
+(a window of ``image_size`` pixels is one BEV image's footprint), with a start and a goal near opposite
+edges. The label layout is either procedural (many warped Voronoi regions and a few trails from edge to
+edge) or, with ``aerial.layout: surenav``, a window of a SuReNav test map (real OpenStreetMap tiles and
+their procedural kin): each semantic label becomes one terrain, so sidewalks are the trails and the
+region shapes are a city's. The hidden total ordering for scoring is the realistic one (or its
+inversion) over ``terrains``.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -18,6 +22,8 @@ import numpy as np
 from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng as seeded_rng
+from navlab.maps.dataset import load_maps
+from navlab.maps.semantic_map import SemanticMap
 from navlab.pacer.bev import render_aerial
 from navlab.pacer.layouts import aerial_layout
 from navlab.pacer.terrain import TerrainBank, load_terrain_bank
@@ -34,12 +40,32 @@ class AerialMap:
     goal: tuple[int, int]
 
 
+def semantic_map_regions(semantic_maps: Sequence[SemanticMap], size: int, rng: np.random.Generator) -> np.ndarray:
+    """Region ids of a ``size`` × ``size`` window of one of ``semantic_maps``: one region per label present."""
+    semantic = semantic_maps[int(rng.integers(len(semantic_maps)))]
+    rows, cols = semantic.labels.shape
+    if rows < size or cols < size:
+        raise ValueError(f"{semantic.name}: map {semantic.labels.shape} is smaller than the aerial size {size}; "
+                         "lower pacer.data.aerial.size or raise data.maps.tile_size_m")
+    r0, c0 = (int(rng.integers(n - size + 1)) for n in (rows, cols))
+    _, regions = np.unique(semantic.labels[r0:r0 + size, c0:c0 + size], return_inverse=True)
+    return regions.reshape(size, size)
+
+
 def aerial_map(bank: TerrainBank, params: PacerDataParams, terrains: Literal["seen", "unseen"], index: int,
-               seed: int) -> AerialMap:
-    """Map ``index`` of the ``terrains`` group, seeded by ``(seed, "pacer-aerial", terrains, index)``."""
+               seed: int, semantic_maps: Sequence[SemanticMap] = ()) -> AerialMap:
+    """Map ``index`` of the ``terrains`` group, seeded by ``(seed, "pacer-aerial", terrains, index)``.
+
+    ``semantic_maps`` are needed (and used) only with ``aerial.layout: surenav``.
+    """
     rng = seeded_rng(seed, "pacer-aerial", terrains, index)
     aerial = params.aerial
-    regions = aerial_layout(rng, aerial, params.layout, params.image_size)
+    if aerial.layout == "surenav":
+        if not semantic_maps:
+            raise ValueError("aerial.layout 'surenav' needs the SuReNav maps (pass semantic_maps)")
+        regions = semantic_map_regions(semantic_maps, aerial.size, rng)
+    else:
+        regions = aerial_layout(rng, aerial, params.layout, params.image_size)
     group = bank.ids(terrains)
     count = int(rng.integers(aerial.terrains[0], min(aerial.terrains[1], len(group)) + 1))
     chosen = rng.choice(group, size=count, replace=False)
@@ -59,7 +85,8 @@ def aerial_maps(params: Params, data_dir: str | Path, terrains: Literal["seen", 
         raise ValueError(f"terrains {terrains!r}: aerial maps are 'seen' or 'unseen' environments")
     data = params.pacer.data
     bank = bank if bank is not None else load_terrain_bank(data_dir, data)
-    return [aerial_map(bank, data, terrains, i, params.pacer.seed) for i in range(data.aerial.maps)]
+    semantic_maps = load_maps(data_dir, "test") if data.aerial.layout == "surenav" else ()
+    return [aerial_map(bank, data, terrains, i, params.pacer.seed, semantic_maps) for i in range(data.aerial.maps)]
 
 
 def _start_goal(rng: np.random.Generator, size: int) -> tuple[tuple[int, int], tuple[int, int]]:

@@ -54,6 +54,7 @@ class PacerAerialParams:
     regions: tuple[int, ...] = between(2, 64, length=2)
     terrains: tuple[int, ...] = between(2, 16, length=2)  # distinct terrains per map
     paths: tuple[int, ...] = between(0, 8, length=2)  # trails across the map
+    layout: Literal["procedural", "surenav"]  # Voronoi regions + trails, or windows of SuReNav test maps
 
 
 @dataclass(frozen=True)
