@@ -84,7 +84,9 @@ def solve(
     ``times``: a horizon (float; only the final values are returned) or an increasing sequence of times
     to go at which to keep snapshots. When the run stops early (convergence), the remaining snapshots
     hold the converged values, which is what V would stay at. ``compile=True`` fuses the numerical
-    Hamiltonian with ``torch.compile`` (worth it on CUDA for large grids; the first step pays the compile).
+    Hamiltonian with ``torch.compile``: ~5x per step on CPU (inductor C++; 41×41×11×36 WENO5 + RK3: 37 vs
+    166 ms per step on one core) and ~30x on CUDA; the first step pays the compile (CPU: ~25 s for WENO5,
+    ~11 s for ENO2, 4 s when inductor's on-disk cache already holds the kernels).
     ``obstacle_values`` (g, broadcastable to the grid, e.g. a signed distance to the obstacles over the first
     axes): trajectories may not pass through {g < 0}, enforced by V = max(V, −g) at τ = 0 and after each step.
     """
