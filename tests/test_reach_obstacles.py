@@ -70,3 +70,10 @@ def test_obstacles_are_never_entered_and_only_slow_the_robot(corridor):
     _, _, _, obstacle, free, walled = corridor
     assert bool((walled[obstacle < 0] == HORIZON).all())
     assert bool((walled >= free - 0.05).all())
+
+
+def test_obstacle_values_must_broadcast_to_the_grid():
+    grid = Grid((-1.0, -1.0), (1.0, 1.0), (11, 11), (False, False))
+    target = torch.sqrt(grid.mesh(0) ** 2 + grid.mesh(1) ** 2).expand(11, 11) - 0.2
+    with pytest.raises(ValueError, match="obstacle values"):
+        time_to_reach(SingleIntegrator(1.0), grid, target, 1.0, obstacle_values=torch.zeros(5, 5), progress=False)

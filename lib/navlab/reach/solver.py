@@ -65,6 +65,20 @@ def _band_change(reference: torch.Tensor, values: torch.Tensor, band: float, tub
     return float(change.max())
 
 
+def obstacle_floor(obstacle_values, grid: Grid, dtype, device) -> torch.Tensor:
+    """−g, checked: the lowest value a state may take when {g < 0} must be avoided."""
+    floor = torch.as_tensor(obstacle_values, dtype=dtype).to(device).neg()
+    try:
+        if torch.broadcast_shapes(floor.shape, grid.shape) != torch.Size(grid.shape):
+            raise RuntimeError
+    except RuntimeError:
+        raise ValueError(f"obstacle values of shape {tuple(floor.shape)} do not broadcast to the grid "
+                         f"{grid.shape}; give one value per grid node or per leading axes") from None
+    if not torch.isfinite(floor).all():
+        raise ValueError("obstacle values contain NaN or inf")
+    return floor
+
+
 def solve(
     dynamics,
     grid: Grid,
@@ -97,16 +111,8 @@ def solve(
         raise ValueError(f"solve: initial values have shape {tuple(values.shape)}, the grid {grid.shape}")
     if not torch.isfinite(values).all():
         raise ValueError("solve: initial values contain NaN or inf")
-    floor = None
-    if obstacle_values is not None:
-        floor = torch.as_tensor(obstacle_values, dtype=dtype).to(device).neg()
-        try:
-            torch.broadcast_shapes(floor.shape, values.shape)
-        except RuntimeError:
-            raise ValueError(f"solve: obstacle values of shape {tuple(floor.shape)} do not broadcast to the "
-                             f"grid {grid.shape}; give one value per grid node or per leading axes") from None
-        if not torch.isfinite(floor).all():
-            raise ValueError("solve: obstacle values contain NaN or inf")
+    floor = None if obstacle_values is None else obstacle_floor(obstacle_values, grid, dtype, device)
+    if floor is not None:
         torch.maximum(values, floor, out=values)
     targets, keep_snapshots = _times(times)
     horizon = float(targets[-1])

@@ -15,7 +15,7 @@ import torch
 from navlab.reach.dynamics import DubinsCar4D, Dynamics, HumanRobotRelative
 from navlab.reach.grid import Grid
 from navlab.reach.settings import DEFAULT_SETTINGS, SolverSettings
-from navlab.reach.solver import solve
+from navlab.reach.solver import obstacle_floor, solve
 
 
 def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.float32) -> torch.Tensor:
@@ -58,7 +58,7 @@ def time_to_reach(
     target = torch.as_tensor(target_values, dtype=dtype).to(device)
     reached = target <= 0
     if obstacle_values is not None:  # a goal state inside an obstacle is not reached (solve raises V there)
-        reached &= torch.as_tensor(obstacle_values, dtype=dtype).to(device) >= 0
+        reached &= obstacle_floor(obstacle_values, grid, dtype, device) <= 0
     ttr = torch.where(reached, torch.zeros_like(target), torch.full_like(target, float("inf")))
     last_growth = 0.0
     first_entry = torch.compile(_first_entry, dynamic=False) if compile else _first_entry
