@@ -10,8 +10,19 @@ evaluates α(x) at every state, which for this car (α independent of the gradie
 subprocess (so peak memory is its own): once to pay JIT compilation / warm-up, then ``--repeats`` times,
 and the medians of those are compared. ``--cpus N`` pins both workers to the same N cores (torch also
 runs N threads; XLA sizes its pool from the affinity): on a shared machine torch's OpenMP threads wait on
-each other when a core is taken, so an equal, pinned share is the fair comparison. Printed: time, peak memory, agreement
-(IoU of the zero sublevel sets, max |ΔV| away from kinks) and the speed ratio (target >= 3x, IoU > 0.99).
+each other when a core is taken, so an equal, pinned share is the fair comparison. Printed: time, peak
+memory, agreement (IoU of the zero sublevel sets, max |ΔV| away from kinks) and the speed ratio (target
+>= 3x, IoU > 0.99).
+
+Measured 2026-11-23 on the shared 2-core CPU box, ``--cpus 1`` (warm medians; navlab's first run includes
+the torch.compile of the Hamiltonian, hj_reachability's its jit):
+
+    grid          navlab            hj_reachability   ratio   IoU     max|ΔV| smooth  peak MiB (ours/hj)
+    41×41×11×36   3.37 s (21.5 s)   18.0 s (24.4 s)   5.3x    1.0000  1.2e-3          258 / 169   --compile
+    81×41×11×36   7.09 s (36.3 s)   43.4 s (52.1 s)   6.1x    1.0000  6.8e-4          331 / 277   --compile
+    41×41×11×36   13.2 s            17.2 s            1.3x    1.0000  1.3e-3           86 / 167   eager
+    41×41×11×36   23.1 s            18.7 s            0.8x    1.0000  1.3e-3           96 / 168   eager, before
+                                                                              the one-pass WENO5 (024b1c1)
 
 hj_reachability is not a navlab dependency. Install it in its own environment and point --jax-python at
 it (the JAX worker imports only numpy, jax and hj_reachability):
