@@ -44,7 +44,7 @@ def corridor():
 
 
 def _node(grid, px, py):
-    return tuple(int(round((p - lo) / h)) for p, lo, h in zip((px, py), grid.lo, grid.spacing))
+    return tuple(round((p - lo) / h) for p, lo, h in zip((px, py), grid.lo, grid.spacing))
 
 
 def test_behind_the_wall_the_ttr_is_the_detour_around_its_end(corridor):
