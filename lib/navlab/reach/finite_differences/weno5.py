@@ -14,6 +14,8 @@ Each triple is one candidate stencil of the left derivative and one of the right
 weights are computed once for both sides, the candidates pair up the same way (the left's middle
 candidate is the right's outer one and vice versa), and the arithmetic runs in place on the few
 buffers this needs: on CPU a fresh grid-sized tensor costs more (page faults) than the op filling it.
+The blends are fresh tensors, not written into views of the candidate buffers: that saves two eager
+allocations per axis but made the torch.compile'd Hamiltonian 3x slower (110 vs 34 ms per RK3 step).
 """
 
 from __future__ import annotations
