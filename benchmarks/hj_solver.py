@@ -25,7 +25,7 @@ the torch.compile of the Hamiltonian, hj_reachability's its jit):
                                                                               the one-pass WENO5 (024b1c1)
 
 A repeat of the first row gave 2.84 s vs 16.75 s (5.9x), first run 6.9 s: inductor's on-disk cache
-(~/.cache or $TORCHINDUCTOR_CACHE_DIR) already held the kernels, so a new process compiles in ~4 s.
+(/tmp/torchinductor_$USER or $TORCHINDUCTOR_CACHE_DIR) already held the kernels, so a new process compiles in ~4 s.
 
 hj_reachability is not a navlab dependency. Install it in its own environment and point --jax-python at
 it (the JAX worker imports only numpy, jax and hj_reachability):
