@@ -39,14 +39,14 @@ def lax_friedrichs_numerical_hamiltonian(
     central, dissipation = [], None
     for dim in range(grid.ndim):
         left, right = left_right(values, dim, grid.spacing[dim], grid.periodic[dim])
-        jump = (right - left).mul_(alphas[dim])
-        central.append(left.add(right).mul_(0.5))
-        del left, right
+        jump = right.sub_(left)  # in place: a fresh grid-sized tensor costs more than the op on CPU
+        central.append(left.add_(jump, alpha=0.5))  # (p⁻ + p⁺)/2 = p⁻ + (p⁺ − p⁻)/2
+        jump.mul_(alphas[dim])
         if dissipation is None:
             dissipation = jump
         else:
             dissipation += jump
-            del jump
+        del left, right, jump
     hamiltonian = dynamics.hamiltonian(state, central)
     del central
     return hamiltonian.add_(dissipation, alpha=0.5)

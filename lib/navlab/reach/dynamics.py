@@ -29,9 +29,8 @@ def _check_mode(name: str, mode: str):
 
 def box_optimum(p: torch.Tensor, lo, hi, mode: Mode) -> torch.Tensor:
     """opt over u ∈ [lo, hi] of p·u (lo, hi may be tensors broadcasting with p)."""
-    if mode == "max":
-        return hi * p.clamp(min=0) + lo * p.clamp(max=0)
-    return lo * p.clamp(min=0) + hi * p.clamp(max=0)
+    up, down = (hi, lo) if mode == "max" else (lo, hi)
+    return p.clamp(min=0).mul_(up).addcmul_(p.clamp(max=0), torch.as_tensor(down, dtype=p.dtype, device=p.device))
 
 
 def box_argopt(p: torch.Tensor, lo, hi, mode: Mode) -> torch.Tensor:
@@ -106,11 +105,9 @@ class DubinsCar4D(Dynamics):
         _, _, v, theta = state
         px, py, pv, pth = grad
         lo, hi = self.acceleration_bounds(v)
-        h = px * (v * torch.cos(theta))
-        h += py * (v * torch.sin(theta))
-        h += box_optimum(pv, lo, hi, self.control_mode)
-        h += _sign(self.control_mode) * self.omega_max * pth.abs()
-        return h
+        h = box_optimum(pv, lo, hi, self.control_mode)
+        h.addcmul_(px, v * torch.cos(theta)).addcmul_(py, v * torch.sin(theta))
+        return h.add_(pth.abs(), alpha=_sign(self.control_mode) * self.omega_max)
 
     def partial_max_magnitudes(self, state):
         _, _, v, theta = state

@@ -167,7 +167,8 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
                    device: str | torch.device | None = None, progress: bool = True, log=print) -> list[Path]:
     """Artefact step ``hj_grids``: solve and store every value function whose file is not current.
 
-    ``device``: default ``hj.grids.device``; on CUDA the numerical Hamiltonian is fused (torch.compile).
+    ``device``: default ``hj.grids.device``; ``hj.grids.compile`` fuses the numerical Hamiltonian
+    (torch.compile: the inductor C++ backend on CPU, Triton on CUDA).
     """
     del data_dir  # rooms are analytic geometry; nothing is read from data/
     device = torch.device(device or params.hj.grids.device)
@@ -181,7 +182,7 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
             log(f"[hj_grids] {spec.name}: up to date ({path})")
         else:
             start = time.perf_counter()
-            values, info = spec.solve(device, progress, device.type == "cuda")
+            values, info = spec.solve(device, progress, params.hj.grids.compile)
             values = _to_numpy(values).astype(np.float32)
             info.update(solve_seconds=round(time.perf_counter() - start, 3), device=str(device),
                         min_value=float(values.min()), max_value=float(values.max()))

@@ -73,6 +73,7 @@ class HumanBRTGridParams:
 @dataclass(frozen=True)
 class GridsParams:
     device: Literal["cpu", "cuda"]  # where the hj_grids stage solves (not part of a grid's identity)
+    compile: bool  # torch.compile the numerical Hamiltonian (same values to round-off; not identity either)
     robot: RobotParams
     human: HumanParams
     solver: SolverParams

@@ -2,6 +2,7 @@
 
 Each scheme module exposes ``left_right(values, dim, spacing, periodic) -> (left, right)``:
 ``left`` is the derivative biased to the lower side (φ_x⁻), ``right`` to the upper side (φ_x⁺).
+The two never share memory, so the caller may overwrite them in place.
 """
 
 from navlab.reach.finite_differences import eno2, upwind_first, weno5
