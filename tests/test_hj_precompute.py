@@ -13,6 +13,7 @@ from navlab.reach.precompute import (
     build_hj_grids,
     grid_path,
     load_human_brt,
+    load_map_ttr,
     load_static_brt,
     load_ttr,
     load_value_function,
@@ -35,7 +36,7 @@ def _with(params, **solver):
 
 def test_rebuild_reuses_current_files(built, smoke_params):
     before = {p: p.stat().st_mtime_ns for p in (built / "hj").glob("*.npy")}
-    assert len(before) == 2 + len(smoke_params.hj.grids.rooms)
+    assert len(before) == 3 + len(smoke_params.hj.grids.rooms)  # ttr, human_brt, map_ttr + one BRT per room
     logs = []
     build_hj_grids(smoke_params, "unused", built, progress=False, log=logs.append)
     assert all("up to date" in m for m in logs) and len(logs) == len(before)
@@ -94,3 +95,23 @@ def test_human_brt_outside_domain_is_safe_and_collision_is_unsafe(built, smoke_p
     people = np.array([[1.0, 1.0], [1.2, 1.1], [30.0, 1.0]])
     v = human(robot, people)
     assert v[0] < 0 and v[1] < 0 and v[2] > 0
+
+
+def test_map_ttr_reaches_its_goal_never_below_free_space_and_larger_behind_obstacles(built, smoke_params):
+    g = smoke_params.hj.grids
+    room = load_room(g.map_ttr.room)
+    map_ttr, ttr = load_map_ttr(smoke_params, built), load_ttr(smoke_params, built)
+    goal = np.asarray(g.map_ttr.goal_xy)
+    stored = load_value_function(smoke_params, built, "map_ttr")
+    assert float(np.min(stored.values)) == 0.0  # the goal's nodes are reached at once
+    rng = np.random.default_rng(1)
+    xy = rng.uniform([0.3, 0.3], [room.width - 0.3, room.height - 0.3], size=(400, 2))
+    far_from_goal = np.hypot(*(xy - goal).T) > 1.5  # the coarse smoke grids blur the small goal disk
+    xy = xy[(room.signed_distance(xy[:, 0], xy[:, 1], g.robot.radius_m) > 0.2) & far_from_goal]
+    states = np.column_stack([xy, rng.uniform(0, g.robot.v_max, len(xy)), rng.uniform(-math.pi, math.pi, len(xy))])
+    horizon = g.ttr.horizon_s  # both store it as the lower bound for states not reached within it
+    with_map, free = map_ttr(states), np.minimum(ttr(states, goal), horizon)
+    cell = max(stored.grid.spacing[:2]) / g.robot.v_max
+    assert (with_map >= free - 2 * cell).all()  # obstacles can only make the goal farther (smoke grids: ±2 cells)
+    assert (with_map > free + cell).any()  # ... and somewhere they do
+

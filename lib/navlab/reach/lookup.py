@@ -195,6 +195,21 @@ class StaticBRTLookup(_Lookup):
         return _where(outside(self.grid, states, dims=(0, 1)), self.unsafe_value, values)
 
 
+class MapTTRLookup(_Lookup):
+    """Map-based TTR to the room goal it was solved for: ``h(states)`` for room-frame states (N, 4).
+
+    Outside the room grid, and inside obstacles, it returns the horizon: the lower bound it stores for
+    every state it never reached.
+    """
+
+    def __init__(self, stored: StoredGrid):
+        super().__init__(stored)
+        self.horizon = float(stored.meta["inputs"]["ttr"]["horizon_s"])
+
+    def __call__(self, states):
+        return _where(outside(self.grid, states, dims=(0, 1)), self.horizon, self._interp(states))
+
+
 class HumanBRTLookup(_Lookup):
     """Human-robot BRT: ``V(robot_states (N, 4), human_xy (N, 2))``; relative state is (x_rel, y_rel, v)."""
 

@@ -1,13 +1,15 @@
 """The precomputed HJ value functions of the HJ-search paper (Sec. VI) as DVC artefacts in artifacts/hj/.
 
-Three kinds, each a grid file + sidecar (reach.store) whose ``inputs`` are exactly the params.yaml
+Four kinds, each a grid file + sidecar (reach.store) whose ``inputs`` are exactly the params.yaml
 sub-sections it depends on (plus the room geometry), so a changed parameter makes only the affected
 grids stale:
 
 - ``ttr.npy``: general goal-centred TTR in obstacle-free space, (x, y, v, θ), goal disc at the origin;
 - ``static_brt_<room>.npy``: static-map avoid BRT of each room in ``hj.grids.rooms``, (x, y, v, θ) over
   the room, failure set = signed distance to walls and obstacles minus the robot radius;
-- ``human_brt.npy``: human-robot BRT in the robot's body frame, (p_x, p_y, v).
+- ``human_brt.npy``: human-robot BRT in the robot's body frame, (p_x, p_y, v);
+- ``map_ttr.npy``: map-based TTR to the goal ``hj.grids.map_ttr.goal_xy`` of one room (reach-avoid),
+  (x, y, v, θ) over the room.
 
 ``build_hj_grids`` is the ``hj_grids`` artefact step; it skips files whose sidecar already records the
 same inputs, so ``dvc repro`` after an unrelated change recomputes nothing. ``load_*`` open the files for
@@ -29,7 +31,7 @@ import torch
 from navlab.core.params import Params
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.grid import Grid
-from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup, TTRLookup
+from navlab.reach.lookup import HumanBRTLookup, MapTTRLookup, StaticBRTLookup, TTRLookup
 from navlab.reach.store import StoredGrid, grid_to_dict, is_current, load_grid, save_grid
 
 SUBDIR = "hj"
@@ -155,8 +157,28 @@ def human_brt_spec(params: Params) -> GridSpec:
     return GridSpec("human_brt", grid, inputs, solve)
 
 
+def map_ttr_spec(params: Params) -> GridSpec:
+    g = params.hj.grids
+    room = load_room(g.map_ttr.room)
+    grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
+    inputs = {"format": FORMAT, "kind": "map_ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+              "solver": _asdict(g.solver), "ttr": _asdict(g.ttr), "map_ttr": _asdict(g.map_ttr),
+              "room": json_ready(dataclasses.asdict(room))}
+
+    def solve(device, progress, compile):
+        from navlab.reach.value_functions import map_ttr
+
+        values = map_ttr(_car(params), grid, room_obstacle_distance(room, grid), g.map_ttr.goal_xy,
+                         g.ttr.goal_radius_m, g.robot.radius_m, g.ttr.horizon_s, _settings(params),
+                         stall_time=g.ttr.stall_s, device=device, progress=progress, compile=compile)
+        return values, {"unreached_fraction": float((values >= g.ttr.horizon_s).float().mean())}
+
+    return GridSpec("map_ttr", grid, inputs, solve)
+
+
 def specs(params: Params) -> list[GridSpec]:
-    return [ttr_spec(params), *(static_brt_spec(params, r) for r in params.hj.grids.rooms), human_brt_spec(params)]
+    return [ttr_spec(params), *(static_brt_spec(params, r) for r in params.hj.grids.rooms), human_brt_spec(params),
+            map_ttr_spec(params)]
 
 
 def grid_path(artifacts_dir: str | Path, name: str) -> Path:
@@ -212,6 +234,10 @@ def load_ttr(params: Params, artifacts_dir: str | Path, verify: bool = True) -> 
 
 def load_static_brt(params: Params, artifacts_dir: str | Path, room: str, verify: bool = True) -> StaticBRTLookup:
     return StaticBRTLookup(load_value_function(params, artifacts_dir, f"static_brt_{room}", verify))
+
+
+def load_map_ttr(params: Params, artifacts_dir: str | Path, verify: bool = True) -> MapTTRLookup:
+    return MapTTRLookup(load_value_function(params, artifacts_dir, "map_ttr", verify))
 
 
 def load_human_brt(params: Params, artifacts_dir: str | Path, verify: bool = True) -> HumanBRTLookup:

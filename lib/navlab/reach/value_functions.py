@@ -9,7 +9,9 @@ than the compile, ~25 s on CPU).
 from __future__ import annotations
 
 import dataclasses
+import math
 
+import numpy as np
 import torch
 
 from navlab.reach.dynamics import DubinsCar4D, Dynamics, HumanRobotRelative
@@ -119,6 +121,50 @@ def general_ttr(
         horizon,
         settings,
         stall_time=stall_time,
+        device=device,
+        dtype=dtype,
+        progress=progress,
+        compile=compile,
+    )
+
+
+def map_ttr(
+    car: DubinsCar4D,
+    grid: Grid,
+    obstacle_distance_xy,
+    goal_xy: tuple[float, float],
+    goal_radius: float,
+    robot_radius: float,
+    horizon: float,
+    settings: SolverSettings = DEFAULT_SETTINGS,
+    *,
+    stall_time: float | None = 1.0,
+    device="cpu",
+    dtype=torch.float32,
+    progress: bool = True,
+    compile: bool = False,
+) -> torch.Tensor:
+    """Map-based TTR (paper Fig. 2): time to a goal disk in a room when paths may not come closer than
+    ``robot_radius`` to an obstacle, a reach-avoid tube on the room's (x, y, v, θ) grid.
+
+    ``obstacle_distance_xy`` is the signed distance to the room's obstacles on the (x, y) nodes,
+    indexed [i_x, i_y]. One solve per goal: this is what makes the map-based TTR costly in the paper.
+    The goal disk is widened to half a cell diagonal when smaller: a monotone scheme creates no new
+    minima, so a goal that holds no grid node would never be reached.
+    """
+    _check_car_grid(grid, "map_ttr")
+    radius = max(goal_radius, 0.5 * math.hypot(*grid.spacing[:2]))
+    x, y = grid.mesh(0, device, dtype), grid.mesh(1, device, dtype)
+    target = (torch.sqrt((x - goal_xy[0]) ** 2 + (y - goal_xy[1]) ** 2) - radius).expand(grid.shape).contiguous()
+    clearance = torch.as_tensor(np.asarray(obstacle_distance_xy) - robot_radius, dtype=dtype)[:, :, None, None]
+    return time_to_reach(
+        dataclasses.replace(car, control_mode="min"),
+        grid,
+        target,
+        horizon,
+        settings,
+        stall_time=stall_time,
+        obstacle_values=clearance,
         device=device,
         dtype=dtype,
         progress=progress,

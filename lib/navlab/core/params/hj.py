@@ -71,6 +71,14 @@ class HumanBRTGridParams:
 
 
 @dataclass(frozen=True)
+class MapTTRGridParams:
+    """The map-based TTR of Fig. 2: one reach-avoid solve for one goal in one room (static_brt grid shape)."""
+
+    room: Literal["simulation", "long_hallway", "dense_room"]
+    goal_xy: tuple[float, ...] = between(0.0, 20.0, length=2)
+
+
+@dataclass(frozen=True)
 class GridsParams:
     device: Literal["cpu", "cuda"]  # where the hj_grids stage solves (not part of a grid's identity)
     compile: bool  # torch.compile the numerical Hamiltonian (same values to round-off; not identity either)
@@ -81,6 +89,7 @@ class GridsParams:
     ttr: TTRGridParams
     static_brt: StaticBRTGridParams
     human_brt: HumanBRTGridParams
+    map_ttr: MapTTRGridParams
 
 
 @dataclass(frozen=True)
