@@ -21,9 +21,10 @@ import torch
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
-from navlab.core.io import DataError, atomic_path, sha256_file, sha256_json, write_text
+from navlab.core.io import atomic_path, sha256_file, sha256_json, write_text
 from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
+from navlab.pacer.checkpoints import load_network
 from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import PacerNet, build_model
 
@@ -86,14 +87,9 @@ def _write_log(rows: list[dict], path: Path) -> None:
 def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet:
     """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
     path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
-                        f"pacer_{path.parent.name}` (or `dvc repro`)")
-    saved = torch.load(path, map_location=device, weights_only=False)
-    model = build_model(PacerModelParams(**saved["model_config"]), context_pairs=saved["context_pairs"],
-                        device=device)
-    model.load_state_dict(saved["weights"])
-    return model.eval()
+    return load_network(path, lambda saved: build_model(PacerModelParams(**saved["model_config"]),
+                                                        context_pairs=saved["context_pairs"]),
+                        f"pacer_{path.parent.name}", device)
 
 
 def train_phase(

@@ -17,10 +17,10 @@ from torch.nn import functional as F
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
-from navlab.core.io import DataError, atomic_path
 from navlab.core.params.pacer import PacerClassifierParams
 from navlab.core.seeding import torch_generator
 from navlab.pacer.baselines.patches import dense_scores, patch_cnn, sample_patches
+from navlab.pacer.checkpoints import load_network, save_network
 
 
 class SemanticClassifier(torch.nn.Module):
@@ -81,16 +81,9 @@ def train_classifier(datasets: Sequence[Dataset], cfg: PacerClassifierParams, pa
 
 
 def save_classifier(model: SemanticClassifier, path: str | Path) -> None:
-    with atomic_path(path) as tmp:
-        torch.save({"labels": model.labels, "channels": model.channels, "patch_size": model.patch_size,
-                    "weights": model.state_dict()}, tmp)
+    save_network(path, {"labels": model.labels, "channels": model.channels, "patch_size": model.patch_size}, model)
 
 
 def load_classifier(path: str | Path, device: str = "cpu") -> SemanticClassifier:
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only pacer_classifier`")
-    saved = torch.load(path, map_location=device, weights_only=False)
-    model = SemanticClassifier(saved["labels"], saved["channels"], saved["patch_size"]).to(device)
-    model.load_state_dict(saved["weights"])
-    return model.eval()
+    return load_network(path, lambda saved: SemanticClassifier(saved["labels"], saved["channels"], saved["patch_size"]),
+                        "pacer_classifier", device)

@@ -27,10 +27,10 @@ from torch.nn import functional as F
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
-from navlab.core.io import DataError, atomic_path
 from navlab.core.params.pacer import PacerSterlingParams
 from navlab.core.seeding import torch_generator
 from navlab.pacer.baselines.patches import context_pairs, dense_scores, patch_cnn, sample_patches
+from navlab.pacer.checkpoints import load_network, save_network
 
 
 def augment(patches: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
@@ -146,16 +146,10 @@ def train_sterling(datasets: Sequence[Dataset], cfg: PacerSterlingParams, patch_
 
 
 def save_sterling(model: SterlingEncoder, path: str | Path) -> None:
-    with atomic_path(path) as tmp:
-        torch.save({"channels": model.channels, "embed_dim": model.embed_dim, "patch_size": model.patch_size,
-                    "weights": model.state_dict()}, tmp)
+    save_network(path, {"channels": model.channels, "embed_dim": model.embed_dim, "patch_size": model.patch_size},
+                 model)
 
 
 def load_sterling(path: str | Path, device: str = "cpu") -> SterlingEncoder:
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only pacer_sterling`")
-    saved = torch.load(path, map_location=device, weights_only=False)
-    model = SterlingEncoder(saved["channels"], saved["embed_dim"], saved["patch_size"]).to(device)
-    model.load_state_dict(saved["weights"])
-    return model.eval()
+    return load_network(path, lambda saved: SterlingEncoder(saved["channels"], saved["embed_dim"], saved["patch_size"]),
+                        "pacer_sterling", device)
