@@ -37,10 +37,3 @@ def torch_generator(seed: int, *keys: object, device: str | torch.device = "cpu"
     gen = torch.Generator(device=device)
     gen.manual_seed(int(sub) & 0x7FFF_FFFF_FFFF_FFFF)
     return gen
-
-
-def seed_everything(seed: int) -> None:
-    """Seed torch's global generator for code paths (layer init) that take no generator."""
-    import torch
-
-    torch.manual_seed(seed)
