@@ -20,9 +20,11 @@ from navlab.reach.settings import DEFAULT_SETTINGS, SolverSettings
 from navlab.reach.solver import obstacle_floor, solve
 
 
-def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.float32) -> torch.Tensor:
-    """|(x_0, x_1)| − radius on the whole grid: a disk in the first two coordinates, a cylinder in the rest."""
-    x, y = grid.mesh(0, device, dtype), grid.mesh(1, device, dtype)
+def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.float32,
+                         center: tuple[float, float] = (0.0, 0.0)) -> torch.Tensor:
+    """|(x_0, x_1) − center| − radius on the whole grid: a disk in the first two coordinates, a cylinder
+    in the rest."""
+    x, y = grid.mesh(0, device, dtype) - center[0], grid.mesh(1, device, dtype) - center[1]
     return (torch.sqrt(x * x + y * y) - radius).expand(grid.shape).contiguous()
 
 
@@ -154,8 +156,7 @@ def map_ttr(
     """
     _check_car_grid(grid, "map_ttr")
     radius = max(goal_radius, 0.5 * math.hypot(*grid.spacing[:2]))
-    x, y = grid.mesh(0, device, dtype), grid.mesh(1, device, dtype)
-    target = (torch.sqrt((x - goal_xy[0]) ** 2 + (y - goal_xy[1]) ** 2) - radius).expand(grid.shape).contiguous()
+    target = disk_signed_distance(grid, radius, device, dtype, center=goal_xy)
     clearance = torch.as_tensor(np.asarray(obstacle_distance_xy) - robot_radius, dtype=dtype)[:, :, None, None]
     return time_to_reach(
         dataclasses.replace(car, control_mode="min"),
