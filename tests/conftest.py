@@ -26,7 +26,7 @@ def smoke_params():
 def smoke_data(tmp_path_factory, smoke_params) -> Path:
     """data/ built with the smoke profile into a temporary folder (downloads are cached)."""
     from navlab.cli import data_steps
-    from navlab.core import dataset
+    from navlab.pipeline import dataset
 
     return dataset.build(tmp_path_factory.mktemp("smoke") / "data", smoke_params, data_steps(), log=lambda m: None)
 

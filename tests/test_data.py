@@ -3,8 +3,8 @@
 import pytest
 
 from navlab.cli import data_steps
-from navlab.core import dataset, sources
-from navlab.core.io import DataError
+from navlab.core.io import DataError, require
+from navlab.pipeline import dataset, sources
 
 
 def test_build_twice_gives_same_digest(smoke_data, smoke_params, tmp_path):
@@ -46,4 +46,4 @@ def test_pinned_hash_mismatch_is_an_error(tmp_path):
 
 def test_require_names_the_build_command(tmp_path):
     with pytest.raises(DataError, match="python -m navlab data build"):
-        dataset.require(tmp_path, "raw", "osm")
+        require(tmp_path, "raw", "osm")

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from navlab.core.notebooks import PARAMETERS, discover, run_notebook
+from navlab.pipeline.notebooks import PARAMETERS, discover, run_notebook
 
 NOTEBOOKS = discover()
 

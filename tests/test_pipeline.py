@@ -5,7 +5,7 @@ from pathlib import Path
 import yaml
 
 from navlab.cli import artifact_steps
-from navlab.core.notebooks import discover
+from navlab.pipeline.notebooks import discover
 
 STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
 COMMANDS = {name: stage["cmd"] for name, stage in STAGES.items()}

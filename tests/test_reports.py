@@ -1,6 +1,6 @@
 import json
 
-from navlab.core.reports import read_table, write_index, write_table
+from navlab.pipeline.reports import read_table, write_index, write_table
 
 
 def test_table_round_trip_markdown_and_index(tmp_path):

@@ -16,8 +16,8 @@ from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
 
 def data_steps():
     """The steps of ``data build``, in order; each writes under its own folder of data/."""
-    from navlab.core.sources import build_raw
     from navlab.maps.dataset import build_maps
+    from navlab.pipeline.sources import build_raw
     from navlab.surenav.experts import build_demos
 
     return [("raw", build_raw), ("maps", build_maps), ("demos", build_demos)]
@@ -54,7 +54,7 @@ def _artifacts_build(args) -> int:
 
 
 def _data_build(args) -> int:
-    from navlab.core import dataset
+    from navlab.pipeline import dataset
 
     root = repo_root()
     params = load_params(args.profile)
@@ -87,7 +87,7 @@ def _data_build(args) -> int:
 
 
 def _data_verify(args) -> int:
-    from navlab.core import dataset
+    from navlab.pipeline import dataset
 
     ok, msg = dataset.verify(args.data_dir, repo_root() / "data.dvc")
     print(msg)
@@ -95,7 +95,7 @@ def _data_verify(args) -> int:
 
 
 def _notebook_run(args) -> int:
-    from navlab.core.notebooks import run_notebook
+    from navlab.pipeline.notebooks import run_notebook
 
     run_notebook(
         args.notebook,
@@ -109,7 +109,7 @@ def _notebook_run(args) -> int:
 
 
 def _reports_index(args) -> int:
-    from navlab.core.reports import write_index
+    from navlab.pipeline.reports import write_index
 
     print(f"wrote {write_index(args.reports_dir)}")
     return 0

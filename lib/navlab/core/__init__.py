@@ -1,1 +1,1 @@
-"""Lowest layer: labels, raster frames, params, seeding, io, report files, package data sources."""
+"""Lowest layer: labels, raster frames, params, seeding, io."""

@@ -23,8 +23,24 @@ import numpy as np
 _EPOCH = (1980, 1, 1, 0, 0, 0)
 
 
+DATA_BUILD_COMMAND = "python -m navlab data build"
+
+
 class DataError(RuntimeError):
     """A missing, unreadable or stale input; the message names the file and the command that fixes it."""
+
+
+def require(data_dir: str | Path, *parts: str) -> Path:
+    """A path inside data/ that must exist; otherwise a DataError that says which command builds it."""
+    path = Path(data_dir, *parts)
+    if not path.exists():
+        raise DataError(f"{path} is missing: build the dataset with `{DATA_BUILD_COMMAND}` (or `make repro`)")
+    return path
+
+
+def cache_dir() -> Path:
+    """Where package downloads are cached (``$NAVLAB_CACHE``, default ``~/.cache/navlab``)."""
+    return Path(os.environ.get("NAVLAB_CACHE", Path.home() / ".cache" / "navlab")) / "packages"
 
 
 @contextlib.contextmanager

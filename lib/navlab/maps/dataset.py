@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from navlab.core.dataset import require
-from navlab.core.io import write_json
+from navlab.core.io import require, write_json
 from navlab.core.params import Params
 from navlab.core.seeding import rng
 from navlab.maps.network import WalkableNetwork, network_from_raster

@@ -40,8 +40,8 @@ import cv2
 import numpy as np
 import osmium
 
-from navlab.core.dataset import require
 from navlab.core.grid import RasterFrame
+from navlab.core.io import require
 from navlab.core.labels import label_id
 from navlab.maps.draw import fill, stroke
 from navlab.maps.network import WalkableNetwork, restrict_to_map

@@ -31,8 +31,7 @@ import numpy as np
 import osmium
 from scipy.spatial import cKDTree
 
-from navlab.core.io import DataError
-from navlab.core.sources import cache_dir
+from navlab.core.io import DataError, cache_dir
 from navlab.maps.network import WalkableNetwork
 from navlab.maps.osm import EARTH_RADIUS_M
 from navlab.maps.routing import Route

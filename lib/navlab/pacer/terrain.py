@@ -31,8 +31,7 @@ from typing import Literal
 import cv2
 import numpy as np
 
-from navlab.core.dataset import require
-from navlab.core.io import DataError
+from navlab.core.io import DataError, require
 from navlab.core.params import ParamsError
 from navlab.core.params.pacer import PacerDataParams
 

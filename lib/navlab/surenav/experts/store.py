@@ -17,8 +17,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from navlab.core.dataset import require
-from navlab.core.io import load_npz, save_npz, sha256_json, write_json
+from navlab.core.io import load_npz, require, save_npz, sha256_json, write_json
 from navlab.core.params import Params
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng

@@ -11,7 +11,6 @@ import contextlib
 import hashlib
 import importlib.util
 import io
-import os
 import shutil
 import subprocess
 import sys
@@ -23,8 +22,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
-from navlab.core.io import DataError, write_bytes
-from navlab.core.source_hashes import ETR_HASHES, OSM_HASHES, SH3D_HASHES, SKIMAGE_HASHES
+from navlab.core.io import DataError, cache_dir, write_bytes
+from navlab.pipeline.source_hashes import ETR_HASHES, OSM_HASHES, SH3D_HASHES, SKIMAGE_HASHES
 
 Kind = Literal["wheel", "sdist", "deb", "installed"]
 
@@ -88,10 +87,6 @@ SOURCES: tuple[Source, ...] = (
         tuple((f"skimage/data/{n}.png", f"terrain/skimage/{n}.png", h) for n, h in sorted(SKIMAGE_HASHES.items())),
     ),
 )
-
-
-def cache_dir() -> Path:
-    return Path(os.environ.get("NAVLAB_CACHE", Path.home() / ".cache" / "navlab")) / "packages"
 
 
 def _run(cmd: list[str], cwd: Path, what: str) -> None:
@@ -198,7 +193,7 @@ def sources_markdown() -> str:
         "# Sources of the real inputs in data/raw",
         "",
         "Taken by `python -m navlab data build` from packages on PyPI and Debian, by exact version;",
-        "each file is checked against its sha256 in `navlab/core/source_hashes.py`.",
+        "each file is checked against its sha256 in `navlab/pipeline/source_hashes.py`.",
         "",
         "| package | version | registry | licence | what | files |",
         "|---|---|---|---|---|---|",

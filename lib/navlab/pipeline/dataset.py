@@ -15,12 +15,12 @@ from pathlib import Path
 
 import yaml
 
-from navlab.core.io import DataError, sha256_json, write_text
+from navlab.core.io import DATA_BUILD_COMMAND as BUILD_COMMAND
+from navlab.core.io import sha256_json, write_text
 from navlab.core.params import Params
 
 Step = tuple[str, Callable[[Params, Path], None]]
 RECORDED_PROFILE = "default"
-BUILD_COMMAND = "python -m navlab data build"
 
 
 def digest(data_dir: str | Path) -> str:
@@ -57,14 +57,6 @@ def verify(data_dir: str | Path, dvc_file: str | Path) -> tuple[bool, str]:
         return True, f"{data_dir}/ matches {dvc_file} ({got})"
     return False, (f"{data_dir}/ differs from {dvc_file}: digest {got}, recorded {want}; rebuild with "
                    f"`{BUILD_COMMAND} --force`, or if the builder changed on purpose, `{BUILD_COMMAND} --record`")
-
-
-def require(data_dir: str | Path, *parts: str) -> Path:
-    """A path inside data/ that must exist; otherwise a DataError that says which command builds it."""
-    path = Path(data_dir, *parts)
-    if not path.exists():
-        raise DataError(f"{path} is missing: build the dataset with `{BUILD_COMMAND}` (or `make repro`)")
-    return path
 
 
 def build(data_dir: str | Path, params: Params, steps: Sequence[Step], log: Callable[[str], None] = print) -> Path:
