@@ -90,7 +90,7 @@ def test_float32_tiny_temperature_has_no_nan_and_unreachable_goals_stop():
     # Neural A*'s exp(-f/tau) underflows to 0 (then NaN) once f/tau > ~104 in float32; log-softmax does not
     batch, psi, rng = random_batch(3, dtype=torch.float32)
     w = torch.tensor(rng.normal(size=batch.shape), dtype=torch.float32)
-    ours, grad = loss_gradient(diff_astar, batch, psi, w, w, 1e-4)
+    _, grad = loss_gradient(diff_astar, batch, psi, w, w, 1e-4)
     _, grad_ref = loss_gradient(diff_astar_reference, batch, psi, w, w, 1e-4)
     assert torch.isfinite(grad).all() and torch.isfinite(grad_ref).all()
     # a wall of blocked nodes around the start: the search exhausts its component and reports no path

@@ -41,8 +41,14 @@ import numpy as np
 import torch
 
 from navlab.graphs.region_graph import RegionGraph
-from navlab.search.graph_astar import SearchGraph, astar_kernel, backtrack, check_query, euclidean_heuristic, \
-    search_graph
+from navlab.search.graph_astar import (
+    SearchGraph,
+    astar_kernel,
+    backtrack,
+    check_query,
+    euclidean_heuristic,
+    search_graph,
+)
 
 
 @dataclass(frozen=True)
@@ -209,7 +215,7 @@ def diff_astar(batch: GraphBatch, psi: torch.Tensor, *, temperature: float,
     for i, sg in enumerate(batch.graphs):
         start, goal, nn = batch.starts[i], batch.goals[i], sg.num_nodes
         h = euclidean_heuristic(sg, goal)
-        g, parent, order, n_closed, t_node, t_g, t_ptr = astar_kernel(
+        _, parent, order, n_closed, t_node, t_g, t_ptr = astar_kernel(
             sg.indptr, sg.indices, sg.length, psi64[i, :nn], h, batch.enterable_np[i], start, goal, True)
         closed_hard[i, order[:n_closed]] = 1.0
         index.append(t_node + i * n)
