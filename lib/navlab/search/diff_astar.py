@@ -16,9 +16,10 @@ without autograd; it records each step's open set with the g of every open node.
 *is* the exact A*'s closed set and path. The backward rebuilds the softmax terms from that record.
 Derivation, for any loss L(c) with v = dL/dc (one graph; steps are summed):
 
-    c = sum_t (ŷ_t + y_t - sg(y_t))              (straight-through; sg = stop-gradient)
+    c = sum_t (ŷ_t + (y_t - sg(y_t)))            (straight-through, sg = stop-gradient: value ŷ_t)
+    dc/dy_t = I, so dL/dy_t = v
     dL/dz_t = J_softmax(z_t)^T v = y_t ⊙ v - y_t <y_t, v> = y_t ⊙ (v - <y_t, v>)
-    dz_t/dPsi = -(1/tau) I on O_t  (y_t is 0 off O_t, z_t depends on Psi only through f_t)
+    dz_t/dPsi = -(1/tau) I on O_t  (y_t is 0 off O_t; g_t is detached, so z_t sees Psi only in f_t)
     dL/dPsi = -(1/tau) sum_t u_t · y_t ⊙ (v - <y_t, v>)
 
 where u_t = 1 while the graph is still searching at step t and 0 after it closed its goal (the
