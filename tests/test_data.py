@@ -26,8 +26,8 @@ def test_changed_file_is_detected(smoke_data, tmp_path):
 
     copy = tmp_path / "copy"
     shutil.copytree(smoke_data, copy)
-    dvc_file = tmp_path / "data.dvc"
-    dvc_file.write_text(f"outs:\n- md5: {dataset.digest(copy)}\n  path: data\n")
+    dvc_file = tmp_path / "dvc.lock"
+    dvc_file.write_text(f"stages:\n  data:\n    outs:\n    - md5: {dataset.digest(copy)}\n      path: data\n")
     assert dataset.verify(copy, dvc_file)[0]
     victim = next((copy / "raw" / "osm").iterdir())
     victim.write_bytes(victim.read_bytes()[:-1])

@@ -2,10 +2,12 @@
 
 from pathlib import Path
 
+import pytest
 import yaml
 
 from navlab.cli import artifact_steps
 from navlab.pipeline.notebooks import discover
+from navlab.pipeline.stages import stage_sources, uncovered
 
 STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
 COMMANDS = {name: stage["cmd"] for name, stage in STAGES.items()}
@@ -35,3 +37,15 @@ def test_every_metric_feeds_the_index():
 def test_dvc_runs_offline():
     config = Path(".dvc/config").read_text(encoding="utf8")
     assert "analytics = false" in config and "check_update = false" in config
+
+
+@pytest.mark.parametrize("name", sorted(STAGES))
+def test_stage_deps_cover_every_module_it_runs(name):
+    stage = STAGES[name]
+    missing = uncovered(stage_sources(stage["cmd"], "."), stage.get("deps", []))
+    assert not missing, f"dvc.yaml stage {name!r}: add to its deps: {', '.join(missing)}"
+
+
+def test_data_stage_guards_the_snapshot():
+    assert STAGES["data"]["cmd"] == "python -m navlab data check"
+    assert not Path("data.dvc").exists(), "data/ is recorded by the `data` stage in dvc.lock, not by data.dvc"

@@ -10,7 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from navlab.core.io import DataError
+from navlab.core.io import DataError, folder_lock
 from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
 
 
@@ -45,11 +45,13 @@ def _artifacts_build(args) -> int:
     unknown = sorted(set(args.only or []) - set(names))
     if unknown:
         raise ParamsError(f"--only {unknown[0]}: no such artefact step; steps are {', '.join(names) or 'none'}")
-    for name, step in steps:
-        if args.only and name not in args.only:
-            continue
-        print(f"[artifacts] {name} ({params.profile})")
-        step(params, Path(args.data_dir), Path(args.artifacts_dir))
+    artifacts_dir = Path(args.artifacts_dir)
+    with folder_lock(artifacts_dir / ".build.lock", f"{artifacts_dir}/"):
+        for name, step in steps:
+            if args.only and name not in args.only:
+                continue
+            print(f"[artifacts] {name} ({params.profile})")
+            step(params, Path(args.data_dir), artifacts_dir)
     return 0
 
 
@@ -59,37 +61,53 @@ def _data_build(args) -> int:
     root = repo_root()
     params = load_params(args.profile)
     data_dir = Path(args.data_dir)
-    dvc_file = root / "data.dvc"
-    # data.dvc speaks for the checkout's data/ (however --data-dir spells it) in the recorded profile only
+    lock_file = root / "dvc.lock"
+    # dvc.lock speaks for the checkout's data/ (however --data-dir spells it) in the recorded profile only
     checked = data_dir.resolve() == (root / "data").resolve() and params.profile == dataset.RECORDED_PROFILE
     if args.record and not checked:  # said before a build of several minutes, not after it
-        raise DataError(f"data.dvc records {root / 'data'} built with the {dataset.RECORDED_PROFILE!r} profile; "
+        raise DataError(f"dvc.lock records {root / 'data'} built with the {dataset.RECORDED_PROFILE!r} profile; "
                         f"rerun with --profile {dataset.RECORDED_PROFILE} and without --data-dir")
+    steps = data_steps()
     if checked and not (args.force or args.record):
-        ok, msg = dataset.verify(data_dir, dvc_file)
-        if ok:
+        ok, msg = dataset.verify(data_dir, lock_file)
+        if ok and dataset.check(data_dir, params, steps)[0]:
             print(f"{msg}; nothing to do")
             return 0
-    dataset.build(data_dir, params, data_steps())
+    dataset.build(data_dir, params, steps)
     if args.record:
-        subprocess.run([sys.executable, "-m", "dvc", "add", "-q", str(data_dir.resolve())], cwd=root, check=True)
-        print(f"recorded {data_dir}/ in data.dvc ({dataset.recorded_digest(dvc_file)}); commit data.dvc")
+        _dvc_commit(root)
+        print(f"recorded {data_dir}/ in dvc.lock ({dataset.recorded_digest(lock_file)}); commit dvc.lock")
         return 0
     if not checked:
-        print(f"built {data_dir}/ with profile {params.profile!r} (data.dvc records only "
+        print(f"built {data_dir}/ with profile {params.profile!r} (dvc.lock records only "
               f"{dataset.RECORDED_PROFILE!r} builds of data/; not checked)")
         return 0
-    ok, msg = dataset.verify(data_dir, dvc_file)
+    ok, msg = dataset.verify(data_dir, lock_file)
     print(msg)
     if ok:
-        subprocess.run([sys.executable, "-m", "dvc", "commit", "-q", "-f", "data.dvc"], cwd=root, check=True)
+        _dvc_commit(root)
     return 0 if ok else 1
+
+
+def _dvc_commit(root: Path) -> None:
+    """Record data/ (and the generator code and params it was built by) as the ``data`` stage in dvc.lock."""
+    from navlab.pipeline.dataset import STAGE
+
+    subprocess.run([sys.executable, "-m", "dvc", "commit", "-q", "-f", STAGE], cwd=root, check=True)
+
+
+def _data_check(args) -> int:
+    from navlab.pipeline import dataset
+
+    ok, msg = dataset.check(args.data_dir, load_params(args.profile), data_steps())
+    print(msg, file=sys.stdout if ok else sys.stderr)
+    return 0 if ok else 2
 
 
 def _data_verify(args) -> int:
     from navlab.pipeline import dataset
 
-    ok, msg = dataset.verify(args.data_dir, repo_root() / "data.dvc")
+    ok, msg = dataset.verify(args.data_dir, repo_root() / "dvc.lock")
     print(msg)
     return 0 if ok else 1
 
@@ -140,10 +158,15 @@ def build_parser() -> argparse.ArgumentParser:
     b = data_cmds.add_parser("build", help="build data/ from packages and seeded generators (resumable)")
     profile_arg(b)
     folder_args(b, "data")
-    b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches data.dvc")
-    b.add_argument("--record", action="store_true", help="record the new build in data.dvc (dvc add)")
+    b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches dvc.lock")
+    b.add_argument("--record", action="store_true", help="record the new build in dvc.lock (dvc commit data)")
     b.set_defaults(func=_data_build)
-    v = data_cmds.add_parser("verify", help="check data/ against the digest data.dvc records")
+    c = data_cmds.add_parser("check", help="refuse a data/ built by another profile or older generator code "
+                                           "(the `data` stage of dvc.yaml)")
+    profile_arg(c)
+    folder_args(c, "data")
+    c.set_defaults(func=_data_check)
+    v = data_cmds.add_parser("verify", help="check data/ against the digest dvc.lock records")
     folder_args(v, "data")
     v.set_defaults(func=_data_verify)
 

@@ -8,6 +8,7 @@ data/ on another machine gives the same bytes.
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import hashlib
 import io
 import json
@@ -24,6 +25,7 @@ _EPOCH = (1980, 1, 1, 0, 0, 0)
 
 
 DATA_BUILD_COMMAND = "python -m navlab data build"
+BUILD_STAMPS = ".steps"  # hidden folder of a data build's resume stamps inside data.partial/, removed at the end
 
 
 class DataError(RuntimeError):
@@ -110,3 +112,32 @@ def sha256_file(path: str | Path, chunk: int = 1 << 20) -> str:
 def sha256_json(obj: Any) -> str:
     """Hash of a JSON-able object in canonical form (for input fingerprints in artefact metadata)."""
     return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()
+
+
+@contextlib.contextmanager
+def folder_lock(lock_file: str | Path, what: str) -> Iterator[None]:
+    """Hold an exclusive lock on ``lock_file`` while building ``what``; a second builder refuses at once.
+
+    Why: two builds into one folder share its staging area and both end with a rename, which left an
+    incomplete snapshot (issue 13). The lock is an OS lock (flock), so a killed build releases it.
+    """
+    lock_file = Path(lock_file)
+    lock_file.parent.mkdir(parents=True, exist_ok=True)
+    with open(lock_file, "a+") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            fh.seek(0)
+            holder = fh.read().strip() or "another process"
+            raise DataError(f"{what} is being built by {holder} (lock {lock_file}); wait for it to finish, "
+                            "then run the command again") from None
+        fh.seek(0)
+        fh.truncate()
+        fh.write(f"pid {os.getpid()}")
+        fh.flush()
+        try:
+            yield
+        finally:
+            fh.seek(0)
+            fh.truncate()
+            fcntl.flock(fh, fcntl.LOCK_UN)

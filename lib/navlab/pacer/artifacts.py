@@ -10,6 +10,8 @@ from pathlib import Path
 
 from torch.utils.data import Subset
 
+from navlab.core.fingerprint import files_fingerprint
+from navlab.core.io import require
 from navlab.core.params import Params
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
@@ -35,6 +37,7 @@ def _train(phase: str):
             phase_dir(artifacts_dir, phase), phase=phase, epochs=getattr(params.pacer.train.epochs, phase),
             seed=params.pacer.seed, context_pairs=params.pacer.data.n_pairs,
             init_from=phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
+            inputs=files_fingerprint(require(data_dir, "raw", "terrain")),
         )
     return step
 

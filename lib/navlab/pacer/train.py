@@ -7,7 +7,10 @@ are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run res
 the batches an uninterrupted run would have seen and ends at the same weights.
 
 Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the final
-weights), ``val_loss.tsv`` (one row per epoch, for `dvc plots`).
+weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`). The checkpoint
+is keyed on ``run_key``: the code fingerprint of the training and dataset modules, every parameter
+that shapes the weights (epochs included, so fewer epochs give the shorter model), the inputs and the
+initial weights; only a run of the same key resumes.
 """
 
 from __future__ import annotations
@@ -15,16 +18,18 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import torch
 from torch.utils.data import Dataset
 from tqdm.auto import tqdm
 
-from navlab.core.io import atomic_path, sha256_file, sha256_json, write_text
+from navlab.core.fingerprint import code_fingerprint
+from navlab.core.io import sha256_file, sha256_json, write_text
 from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
-from navlab.pacer.checkpoints import load_network
+from navlab.pacer.checkpoints import load_network, resume_checkpoint, save_torch
 from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import PacerNet, build_model
 
@@ -66,16 +71,21 @@ def validation_loss(model: PacerNet, datasets: Sequence[Dataset], batch_size: in
     return total / count if count else float("nan")
 
 
-def _fingerprint(model_cfg, train_cfg, seed, phase, sizes, init_from) -> str:
-    """What a checkpoint must match to be resumed (epochs excluded: raising them continues a run)."""
-    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("epochs", "device")}
+def run_key(model_cfg: PacerModelParams, train_cfg: PacerTrainParams, *, seed: int, phase: str, epochs: int,
+            sizes: Sequence[int], init_from: Path | None, code: str, inputs: Any = None) -> str:
+    """What a checkpoint must match to be resumed: code, parameters (not the device or thread count,
+    which change no result on one machine), epochs, dataset sizes, inputs and the initial weights."""
+    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("device", "threads", "epochs")}
     init = sha256_file(init_from) if init_from is not None else None
-    return sha256_json([dataclasses.asdict(model_cfg), train, seed, phase, list(sizes), init])
+    return sha256_json({"code": code, "model": dataclasses.asdict(model_cfg), "train": train, "seed": seed,
+                        "phase": phase, "epochs": epochs, "sizes": list(sizes), "init": init, "inputs": inputs})
 
 
-def _save(obj, path: Path) -> None:
-    with atomic_path(path) as tmp:
-        torch.save(obj, tmp)
+def training_code(datasets: Sequence[Dataset]) -> str:
+    """Fingerprint of this module and the navlab modules that define ``datasets`` (they render the examples)."""
+    modules = {type(ds).__module__ for ds in datasets}
+    modules |= {type(ds.dataset).__module__ for ds in datasets if hasattr(ds, "dataset")}  # torch Subset
+    return code_fingerprint(__name__, *sorted(m for m in modules if m.startswith("navlab.")))
 
 
 def _write_log(rows: list[dict], path: Path) -> None:
@@ -104,29 +114,34 @@ def train_phase(
     seed: int,
     context_pairs: int = 3,
     init_from: str | Path | None = None,
+    inputs: Any = None,
     progress: bool = True,
 ) -> Path:
-    """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``."""
+    """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``.
+
+    ``inputs``: a fingerprint of the files the datasets read (part of the run key).
+    """
     out_dir = Path(out_dir)
     device = torch.device(train_cfg.device)
     torch.set_num_threads(train_cfg.threads)
     init_from = Path(init_from) if init_from is not None else None
+    initial = load_model(init_from, device) if init_from is not None else None  # missing/corrupt: says so first
     sizes = [len(ds) for ds in train_sets]
-    fingerprint = _fingerprint(model_cfg, train_cfg, seed, phase, sizes, init_from)
+    key = run_key(model_cfg, train_cfg, seed=seed, phase=phase, epochs=epochs, sizes=sizes, init_from=init_from,
+                  code=training_code([*train_sets, *val_sets]), inputs=inputs)
 
     torch.manual_seed(seed)  # layer initialisation of phase 1
     model = build_model(model_cfg, context_pairs=context_pairs, device=device)
     optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
     rows: list[dict] = []
     checkpoint_path = out_dir / "checkpoint.pt"
-    checkpoint = torch.load(checkpoint_path, map_location=device, weights_only=False) \
-        if checkpoint_path.is_file() else None
-    if checkpoint is not None and checkpoint["fingerprint"] == fingerprint:
+    checkpoint = resume_checkpoint(checkpoint_path, key, device)
+    if checkpoint is not None:
         model.load_state_dict(checkpoint["weights"])
         optimiser.load_state_dict(checkpoint["optimiser"])
         rows = checkpoint["log"]
-    elif init_from is not None:
-        model.load_state_dict(load_model(init_from, device).state_dict())
+    elif initial is not None:
+        model.load_state_dict(initial.state_dict())
 
     bar = tqdm(range(len(rows), epochs), desc=f"PACER {phase}", disable=not progress, initial=len(rows),
                total=epochs)
@@ -147,12 +162,12 @@ def train_phase(
         val = validation_loss(model, val_sets, train_cfg.batch_size, device)
         rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val})
         bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}")
-        _save({"fingerprint": fingerprint, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
-               "log": rows}, checkpoint_path)
+        save_torch(checkpoint_path, {"key": key, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
+               "log": rows})
         _write_log(rows, out_dir / "val_loss.tsv")
 
     _write_log(rows, out_dir / "val_loss.tsv")
     model_path = out_dir / "model.pt"
-    _save({"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
-           "weights": model.state_dict(), "phase": phase, "epochs": len(rows)}, model_path)
+    save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
+                            "weights": model.state_dict(), "phase": phase, "epochs": len(rows)})
     return model_path

@@ -1,30 +1,42 @@
-"""The dataset snapshot in data/: built by steps, staged, renamed into place, checked against data.dvc.
+"""The dataset snapshot in data/: built by steps, staged, renamed into place, checked against dvc.lock.
 
-A build writes into ``data.partial/``; each finished step leaves a stamp there, so a killed build
-resumes where it stopped. Only a complete build is renamed to ``data/``. The digest is DVC's own
-directory hash (dvc-data), so ``data verify`` agrees with what ``dvc add`` recorded in data.dvc.
+A build writes into ``data.partial/``; each finished step leaves a stamp there keyed on the code
+fingerprint of the step's modules, the data parameters and the previous step's stamp, so a killed
+build resumes where it stopped and a build resumed under edited generator code redoes what that code
+makes. Only a complete build is renamed to ``data/``, and ``data.build.json`` beside it records the
+profile, generator code and parameters that built it: ``data check`` (the ``data`` stage of dvc.yaml,
+which ``dvc repro`` runs before it records data/) refuses a snapshot of another profile or of older
+code, so a smoke build is never recorded as the default. ``data.lock`` keeps two builds apart. The
+digest is DVC's own directory hash (dvc-data), so ``data verify`` agrees with the ``data`` stage's out
+in dvc.lock.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import json
 import shutil
 import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import yaml
 
+from navlab.core.fingerprint import code_fingerprint
+from navlab.core.io import BUILD_STAMPS, folder_lock, sha256_json, write_json, write_text
 from navlab.core.io import DATA_BUILD_COMMAND as BUILD_COMMAND
-from navlab.core.io import sha256_json, write_text
 from navlab.core.params import Params
 
 Step = tuple[str, Callable[[Params, Path], None]]
 RECORDED_PROFILE = "default"
+STAGE = "data"  # the dvc.yaml stage whose out is data/
+DATA_PARAMS = ("data", "surenav.graph")  # the params.yaml sections the generators read (the stage's params)
 
 
 def digest(data_dir: str | Path) -> str:
-    """DVC's md5 directory hash of ``data_dir`` (the ``md5:`` value ``dvc add`` writes)."""
+    """DVC's md5 directory hash of ``data_dir`` (the ``md5:`` value dvc.lock records for it)."""
     from dvc_data.hashfile.build import build
     from dvc_data.hashfile.db.local import LocalHashFileDB
     from dvc_objects.fs.local import LocalFileSystem
@@ -35,50 +47,107 @@ def digest(data_dir: str | Path) -> str:
     return obj.hash_info.value
 
 
-def recorded_digest(dvc_file: str | Path) -> str | None:
-    """The md5 that data.dvc records, or None when there is no data.dvc yet."""
-    dvc_file = Path(dvc_file)
-    if not dvc_file.is_file():
+def recorded_digest(lock_file: str | Path) -> str | None:
+    """The md5 that dvc.lock records for the ``data`` stage's out, or None when nothing is recorded."""
+    lock_file = Path(lock_file)
+    if not lock_file.is_file():
         return None
-    outs = (yaml.safe_load(dvc_file.read_text()) or {}).get("outs") or [{}]
+    stage = ((yaml.safe_load(lock_file.read_text()) or {}).get("stages") or {}).get(STAGE) or {}
+    outs = stage.get("outs") or [{}]
     return outs[0].get("md5")
 
 
-def verify(data_dir: str | Path, dvc_file: str | Path) -> tuple[bool, str]:
-    """(matches, one-line explanation) for ``data_dir`` against ``dvc_file``."""
+def verify(data_dir: str | Path, lock_file: str | Path) -> tuple[bool, str]:
+    """(matches, one-line explanation) for ``data_dir`` against ``lock_file``."""
     data_dir = Path(data_dir)
     if not data_dir.is_dir():
         return False, f"{data_dir}/ does not exist; build it with `{BUILD_COMMAND}`"
-    want = recorded_digest(dvc_file)
+    want = recorded_digest(lock_file)
     if want is None:
-        return False, f"{dvc_file} is missing; record the snapshot with `{BUILD_COMMAND} --record`"
+        return False, f"{lock_file} records no data/; record the snapshot with `{BUILD_COMMAND} --record`"
     got = digest(data_dir)
     if got == want:
-        return True, f"{data_dir}/ matches {dvc_file} ({got})"
-    return False, (f"{data_dir}/ differs from {dvc_file}: digest {got}, recorded {want}; rebuild with "
+        return True, f"{data_dir}/ matches {lock_file} ({got})"
+    return False, (f"{data_dir}/ differs from {lock_file}: digest {got}, recorded {want}; rebuild with "
                    f"`{BUILD_COMMAND} --force`, or if the builder changed on purpose, `{BUILD_COMMAND} --record`")
 
 
+def data_params(params: Params) -> dict[str, Any]:
+    """The parameter sections the generators read, as JSON-able dicts."""
+    out = {}
+    for dotted in DATA_PARAMS:
+        section: Any = params
+        for part in dotted.split("."):
+            section = getattr(section, part)
+        out[dotted] = dataclasses.asdict(section)
+    return out
+
+
+def generator_code(steps: Sequence[Step]) -> str:
+    """Code fingerprint of every module the steps run."""
+    return code_fingerprint(*sorted({fn.__module__ for _, fn in steps}))
+
+
+def record_path(data_dir: str | Path) -> Path:
+    """``data.build.json`` beside ``data/``: what built the snapshot now in data/."""
+    data_dir = Path(data_dir)
+    return data_dir.with_name(data_dir.name + ".build.json")
+
+
+def build_record(params: Params, steps: Sequence[Step]) -> dict[str, Any]:
+    return {"profile": params.profile, "code": generator_code(steps), "params": sha256_json(data_params(params))}
+
+
+def check(data_dir: str | Path, params: Params, steps: Sequence[Step]) -> tuple[bool, str]:
+    """(usable, one line): was ``data_dir`` built by ``params.profile`` with the current generator code?"""
+    data_dir = Path(data_dir)
+    fix = f"rebuild it with `{BUILD_COMMAND} --profile {params.profile} --force`"
+    if not data_dir.is_dir():
+        return False, f"{data_dir}/ does not exist; build it with `{BUILD_COMMAND} --profile {params.profile}`"
+    path = record_path(data_dir)
+    try:
+        built = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return False, f"{data_dir}/ has no readable build record ({path.name}); {fix}"
+    want = build_record(params, steps)
+    if built.get("profile") != want["profile"]:
+        return False, (f"{data_dir}/ was built with the {built.get('profile')!r} profile but params.yaml asks for "
+                       f"{want['profile']!r}; {fix}")
+    if built.get("code") != want["code"]:
+        return False, f"{data_dir}/ was built by older generator code (maps, demos or sources changed); {fix}"
+    if built.get("params") != want["params"]:
+        return False, f"{data_dir}/ was built with other {' / '.join(DATA_PARAMS)} parameters; {fix}"
+    return True, f"{data_dir}/ was built with the {params.profile!r} profile by the current generator code"
+
+
 def build(data_dir: str | Path, params: Params, steps: Sequence[Step], log: Callable[[str], None] = print) -> Path:
-    """Run ``steps`` into ``<data_dir>.partial`` (resuming finished ones), then rename it to ``data_dir``."""
+    """Run ``steps`` into ``<data_dir>.partial`` (resuming finished ones), then rename it to ``data_dir``.
+
+    Holds ``<data_dir>.lock`` throughout: a second build of the same folder stops with a DataError.
+    """
     data_dir = Path(data_dir)
     partial = data_dir.with_name(data_dir.name + ".partial")
-    stamps = partial / ".steps"
-    stamps.mkdir(parents=True, exist_ok=True)
-    for name, step in steps:
-        # all of params, not only `data`: a step may read other sections too (demos read surenav.graph)
-        fingerprint = sha256_json({"params": params, "step": name})
-        stamp = stamps / f"{name}.done"
-        if stamp.is_file() and stamp.read_text() == fingerprint:
-            log(f"[data] {name}: already built in {partial} (resuming)")
-            continue
-        start = time.perf_counter()
-        log(f"[data] {name}: building …")
-        step(params, partial)
-        write_text(stamp, fingerprint)
-        log(f"[data] {name}: done in {time.perf_counter() - start:.1f} s")
-    shutil.rmtree(stamps)
-    if data_dir.exists():
-        shutil.rmtree(data_dir)
-    partial.rename(data_dir)
+    with folder_lock(data_dir.with_name(data_dir.name + ".lock"), f"{data_dir}/"):
+        stamps = partial / BUILD_STAMPS
+        stamps.mkdir(parents=True, exist_ok=True)
+        previous = None
+        for name, step in steps:
+            key = sha256_json({"params": data_params(params), "step": name, "code": code_fingerprint(step.__module__),
+                               "after": previous})
+            previous = key
+            stamp = stamps / f"{name}.done"
+            if stamp.is_file() and stamp.read_text() == key:
+                log(f"[data] {name}: already built in {partial} (resuming)")
+                continue
+            start = time.perf_counter()
+            log(f"[data] {name}: building …")
+            step(params, partial)
+            write_text(stamp, key)
+            log(f"[data] {name}: done in {time.perf_counter() - start:.1f} s")
+        shutil.rmtree(stamps)
+        record_path(data_dir).unlink(missing_ok=True)  # the old record must not vouch for the new snapshot
+        if data_dir.exists():
+            shutil.rmtree(data_dir)
+        partial.rename(data_dir)
+        write_json(record_path(data_dir), build_record(params, steps))
     return data_dir

@@ -1,8 +1,9 @@
 """The precomputed HJ value functions of the HJ-search paper (Sec. VI) as DVC artefacts in artifacts/hj/.
 
-Four kinds, each a grid file + sidecar (reach.store) whose ``inputs`` are exactly the params.yaml
-sub-sections it depends on (plus the room geometry), so a changed parameter makes only the affected
-grids stale:
+Four kinds, each a grid file + sidecar (reach.store) whose ``inputs`` are the params.yaml sub-sections
+it depends on (plus the room geometry) and the code fingerprint of this module's imports, so a changed
+parameter makes only the affected grids stale and a changed solver, dynamics or value function makes
+every grid stale:
 
 - ``ttr.npy``: general goal-centred TTR in obstacle-free space, (x, y, v, θ), goal disc at the origin;
 - ``static_brt_<room>.npy``: static-map avoid BRT of each room in ``hj.grids.rooms``, (x, y, v, θ) over
@@ -28,6 +29,7 @@ from typing import Any
 import numpy as np
 import torch
 
+from navlab.core.fingerprint import code_fingerprint
 from navlab.core.params import Params
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.grid import Grid
@@ -35,7 +37,11 @@ from navlab.reach.lookup import HumanBRTLookup, MapTTRLookup, StaticBRTLookup, T
 from navlab.reach.store import StoredGrid, grid_to_dict, is_current, load_grid, save_grid
 
 SUBDIR = "hj"
-FORMAT = "hj-grids/1"  # bump when what a grid means changes without a params change
+
+
+def solver_code() -> str:
+    """Fingerprint of the navlab source this module runs (solver, dynamics, value functions, rooms)."""
+    return code_fingerprint(__name__)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,7 +93,7 @@ def ttr_spec(params: Params) -> GridSpec:
     half = g.ttr.half_extent_m
     grid = Grid((-half, -half, 0.0, -math.pi), (half, half, g.robot.v_max, math.pi), g.ttr.shape,
                 (False, False, False, True))
-    inputs = {"format": FORMAT, "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+    inputs = {"code": solver_code(), "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
 
     def solve(device, progress, compile):
@@ -115,7 +121,7 @@ def static_brt_spec(params: Params, room_name: str) -> GridSpec:
     g = params.hj.grids
     room = load_room(room_name)
     grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
-    inputs = {"format": FORMAT, "kind": "static_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+    inputs = {"code": solver_code(), "kind": "static_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "static_brt": _asdict(g.static_brt),
               "room": json_ready(dataclasses.asdict(room))}
 
@@ -143,7 +149,7 @@ def human_brt_spec(params: Params) -> GridSpec:
                          f"(radii + closing speed × horizon), so every encounter within the horizon is on the grid")
     grid = Grid((-h.half_extent_m, -h.half_extent_m, 0.0), (h.half_extent_m, h.half_extent_m, g.robot.v_max),
                 h.shape, (False, False, False))
-    inputs = {"format": FORMAT, "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+    inputs = {"code": solver_code(), "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
 
     def solve(device, progress, compile):
@@ -161,7 +167,7 @@ def map_ttr_spec(params: Params) -> GridSpec:
     g = params.hj.grids
     room = load_room(g.map_ttr.room)
     grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
-    inputs = {"format": FORMAT, "kind": "map_ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
+    inputs = {"code": solver_code(), "kind": "map_ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr), "map_ttr": _asdict(g.map_ttr),
               "room": json_ready(dataclasses.asdict(room))}
 

@@ -4,8 +4,10 @@ Why this format: the paper-size grids are 1.2-1.4 GB. A raw ``.npy`` is written 
 and opened with ``np.load(mmap_mode="r")`` without copying, so a lookup touches only the pages it reads;
 compressed ``.npz`` would cost minutes of deflate per build and a full decompression on every load, and
 gains little on smooth float fields. The sidecar carries the sha256 of the ``.npy`` bytes (a truncated or
-corrupted file is detected, never used) and the metadata the grid was built from; a loader compares it
-with what params.yaml asks for and names the DVC stage to re-run when they disagree.
+corrupted file is detected, never used, and rebuilt by the next build) and the ``inputs`` the grid was
+built from, which include the code fingerprint of the modules that solve it (``navlab.core.fingerprint``):
+a loader compares them with what params.yaml and the current code ask for and names the DVC stage to
+re-run when they disagree. No hand-bumped format version: a change of code is a change of inputs.
 
 Both files are written atomically (temporary file, then rename); the sidecar is written last and is the
 commit record: a ``.npy`` without a matching sidecar is treated as missing.
@@ -23,7 +25,7 @@ import numpy as np
 from navlab.core.io import DataError, atomic_path, sha256_file, sha256_json, write_json
 from navlab.reach.grid import Grid
 
-FORMAT_VERSION = 1
+SIDECAR_KEYS = ("file", "sha256", "nbytes", "dtype", "grid", "inputs", "inputs_hash")
 REBUILD = "rebuild it with `dvc repro hj_grids` (or `python -m navlab artifacts build --only hj_grids`)"
 
 
@@ -65,7 +67,6 @@ def save_grid(path: str | Path, values: np.ndarray, grid: Grid, inputs: dict[str
             np.lib.format.write_array(fh, values, allow_pickle=False)
         digest, nbytes = sha256_file(tmp), tmp.stat().st_size
     write_json(sidecar_path(path), {
-        "format_version": FORMAT_VERSION,
         "file": path.name,
         "sha256": digest,
         "nbytes": nbytes,
@@ -86,9 +87,9 @@ def read_meta(path: str | Path) -> dict[str, Any]:
         meta = json.loads(side.read_text())
     except (OSError, ValueError) as err:
         raise DataError(f"{side} is unreadable ({err}); {REBUILD}") from None
-    if meta.get("format_version") != FORMAT_VERSION:
-        raise DataError(f"{side} has format version {meta.get('format_version')}, expected {FORMAT_VERSION}; "
-                        f"{REBUILD}")
+    missing = [k for k in SIDECAR_KEYS if k not in meta] if isinstance(meta, dict) else list(SIDECAR_KEYS)
+    if missing:
+        raise DataError(f"{side} lacks {', '.join(missing)} (written by other code); {REBUILD}")
     return meta
 
 
@@ -103,12 +104,17 @@ def stale_keys(stored: Any, expected: Any, prefix: str = "") -> list[str]:
 
 
 def is_current(path: str | Path, inputs: dict[str, Any]) -> bool:
-    """True when a complete file built from exactly ``inputs`` exists (size checked, not the checksum)."""
+    """True when an intact file built from exactly ``inputs`` (code fingerprint included) exists.
+
+    The sha256 is checked too (about 1 s per GB), so a corrupt grid of the right size is rebuilt by
+    the command that ``load_grid``'s message names instead of being reported "up to date".
+    """
     try:
         meta = read_meta(path)
     except DataError:
         return False
-    return meta["inputs_hash"] == sha256_json(inputs) and Path(path).stat().st_size == meta["nbytes"]
+    return (meta["inputs_hash"] == sha256_json(inputs) and Path(path).stat().st_size == meta["nbytes"]
+            and sha256_file(path) == meta["sha256"])
 
 
 def load_grid(path: str | Path, inputs: dict[str, Any] | None = None, verify: bool = True) -> StoredGrid:
@@ -122,7 +128,7 @@ def load_grid(path: str | Path, inputs: dict[str, Any] | None = None, verify: bo
     meta = read_meta(path)
     json_inputs = json.loads(json.dumps(inputs, default=str)) if inputs is not None else None
     if json_inputs is not None and meta["inputs_hash"] != sha256_json(inputs):
-        changed = stale_keys(meta["inputs"], json_inputs) or ["(code or format)"]
+        changed = stale_keys(meta["inputs"], json_inputs) or ["(inputs)"]
         raise DataError(f"{path} is stale: built with different {', '.join(changed[:5])} than params.yaml "
                         f"asks for; {REBUILD}")
     size = path.stat().st_size

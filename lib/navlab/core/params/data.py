@@ -5,12 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from navlab.core.params.demos import DemosParams
-from navlab.core.params.fields import between
 from navlab.core.params.maps import MapsParams
 
 
 @dataclass(frozen=True)
 class DataParams:
-    seed: int = between(0)
     maps: MapsParams
     demos: DemosParams

@@ -94,5 +94,4 @@ class GridsParams:
 
 @dataclass(frozen=True)
 class HJParams:
-    seed: int = between(0)
     grids: GridsParams

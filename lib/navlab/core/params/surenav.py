@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from navlab.core.params.fields import between
 from navlab.core.params.surenav_graph import GraphParams
 
 
 @dataclass(frozen=True)
 class SuReNavParams:
-    seed: int = between(0)
     graph: GraphParams

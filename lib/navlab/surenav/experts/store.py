@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from navlab.core.io import load_npz, require, save_npz, sha256_json, write_json
+from navlab.core.fingerprint import code_fingerprint
+from navlab.core.io import BUILD_STAMPS, load_npz, require, save_npz, sha256_json, write_json, write_text
 from navlab.core.params import Params
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
@@ -92,6 +93,7 @@ def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
 def build_demos(params: Params, out_dir: Path) -> None:
     """The `demos` data step: demonstrations on every map the `maps` step wrote into ``out_dir``."""
     settings, graph = params.data.demos, params.surenav.graph
+    code = code_fingerprint(__name__)  # a build resumed under edited generator code redoes every map
     index = {}
     for split in SPLITS:
         maps = load_maps(out_dir, split)
@@ -104,12 +106,15 @@ def build_demos(params: Params, out_dir: Path) -> None:
             target = folder / f"{semantic_map.name}.npz"
             fingerprint = sha256_json({"demos": settings, "graph": graph, "map": semantic_map.name,
                                        "labels": hashlib.sha256(semantic_map.labels.tobytes()).hexdigest()})
-            if not _is_built(target, fingerprint):
+            stamp = Path(out_dir, BUILD_STAMPS, "demos", split, f"{semantic_map.name}.done")
+            key = sha256_json({"fingerprint": fingerprint, "code": code})
+            if not _is_built(target, fingerprint, stamp, key):
                 superpixels = label_consistent_slic(semantic_map.labels, graph.target_nodes, graph.compactness)
                 static, semi = map_environments(semantic_map, superpixels, n_pairs, settings,
                                                 rng(settings.seed, "demos", split, semantic_map.name),
                                                 graph.compactness)
                 save_map_demos(target, superpixels, static, semi, fingerprint)
+                write_text(stamp, key)
             index[split][semantic_map.name] = {"static": n_pairs, "semi_static": n_pairs}
     write_json(Path(out_dir, DEMOS_DIR, "index.json"), index)
 
@@ -131,9 +136,12 @@ def demo_graph(md: MapDemos, demo: Demonstration, semantic_map: SemanticMap, gra
     return region_graph.with_endpoints(demo.start, demo.goal)
 
 
-def _is_built(target: Path, fingerprint: str) -> bool:
-    """A finished map file from an interrupted build with the same settings (resume); an unreadable
-    one is not finished, so it is rebuilt rather than stopping the build."""
+def _is_built(target: Path, fingerprint: str, stamp: Path, key: str) -> bool:
+    """A finished map file from an interrupted build with the same settings and code (resume: its stamp,
+    outside data/, holds ``key``); an unreadable one is not finished, so it is rebuilt rather than
+    stopping the build."""
+    if not stamp.is_file() or stamp.read_text() != key:
+        return False
     try:
         with np.load(target, allow_pickle=False) as npz:
             return "fingerprint" in npz.files and str(npz["fingerprint"]) == fingerprint
