@@ -169,12 +169,22 @@ def _read_photo(path: str) -> np.ndarray:
     """float32 RGB in [0, 1]; grayscale photographs are repeated over the three channels."""
     if not Path(path).is_file():
         raise DataError(f"{path} is missing: build the dataset with `python -m navlab data build`")
-    bgr = cv2.imread(path, cv2.IMREAD_COLOR)
-    if bgr is None:
+    bgr = cv2.imread(path, cv2.IMREAD_COLOR) if _complete_image(Path(path)) else None
+    if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
         raise DataError(f"{path}: not a readable image; rebuild the dataset with `python -m navlab data build --force`")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
+
+
+def _complete_image(path: Path) -> bool:
+    """Whether a JPEG ends with its end-of-image marker and a PNG with its IEND chunk (not truncated)."""
+    tail = path.read_bytes()[-12:]
+    if path.suffix.lower() in (".jpg", ".jpeg"):
+        return tail.rstrip(b"\0").endswith(b"\xff\xd9")
+    if path.suffix.lower() == ".png":
+        return b"IEND" in tail
+    return True
 
 
 def _pyramid(image: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from navlab.core.io import atomic_path
+from navlab.core.io import DataError, atomic_path
 from navlab.core.params import repo_root
 
 PARAMETERS = ("profile", "data_dir", "artifacts_dir", "reports_dir")
@@ -39,8 +39,8 @@ def run_notebook(
     root = repo_root()
     notebook = Path(notebook)
     source = notebook if notebook.is_absolute() else root / notebook
-    if not source.is_file():
-        raise FileNotFoundError(f"{notebook}: no such notebook; list them with `ls notebooks/`")
+    if not source.is_file() or source.suffix != ".ipynb":
+        raise DataError(f"{notebook}: no such notebook (a .ipynb file); list them with `ls notebooks/`")
     rel = source.relative_to(root / "notebooks") if source.is_relative_to(root / "notebooks") else Path(source.name)
     output = Path(output) if output is not None else Path(artifacts_dir) / "notebooks" / rel
     parameters = {

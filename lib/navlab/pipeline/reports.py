@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from navlab.core.io import write_json, write_text
+from navlab.core.io import DataError, write_json, write_text
 
 REQUIRED = ("table_id", "paper_ref", "profile", "seeds", "columns", "rows", "paper", "notes")
 
@@ -137,6 +137,9 @@ def to_markdown(report: dict[str, Any]) -> str:
 def write_index(reports_dir: str | Path) -> Path:
     """``reports/README.md``: every table found under ``reports_dir``, ours beside the paper's."""
     reports_dir = Path(reports_dir)
+    if not reports_dir.is_dir():
+        raise DataError(f"{reports_dir}/ does not exist; pass the reports folder (default: reports), e.g. "
+                        "`python -m navlab reports index --reports-dir reports`")
     parts = [
         "# Reproduced results",
         "",

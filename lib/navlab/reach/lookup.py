@@ -47,6 +47,7 @@ def interpolate(values: np.ndarray, grid: Grid, points: np.ndarray) -> np.ndarra
     """Multilinear interpolant of ``values`` (shape ``grid.shape``) at ``points`` (N, d): (N,) float64."""
     points = np.asarray(points, dtype=np.float64)
     _check(values.shape, grid, points.shape)
+    _check_finite(bool(np.isfinite(points).all()))
     flat = values.reshape(-1)
     strides = np.cumprod((1,) + grid.shape[::-1])[:-1][::-1]
     axes = [_cell_coords(points[:, d], grid.lo[d], grid.spacing[d], grid.shape[d], grid.periodic[d],
@@ -67,6 +68,7 @@ def interpolate_torch(values: torch.Tensor, grid: Grid, points: torch.Tensor) ->
     """Torch twin of ``interpolate`` (same formula, runs on ``values.device``); returns (N,) float64."""
     points = points.to(dtype=torch.float64, device=values.device)
     _check(tuple(values.shape), grid, tuple(points.shape))
+    _check_finite(bool(torch.isfinite(points).all()))
     flat = values.reshape(-1)
     strides = np.cumprod((1,) + grid.shape[::-1])[:-1][::-1]
     axes = [_cell_coords(points[:, d], grid.lo[d], grid.spacing[d], grid.shape[d], grid.periodic[d],
@@ -81,6 +83,13 @@ def interpolate_torch(values: torch.Tensor, grid: Grid, points: torch.Tensor) ->
             weight *= frac if upper else 1.0 - frac
         out += weight * flat[index].double()
     return out
+
+
+def _check_finite(all_finite: bool) -> None:
+    """A NaN or inf state has no cell: it would index far outside the grid or read as a safe NaN value."""
+    if not all_finite:
+        raise ValueError("interpolate: a state holds NaN or inf; look up finite states only (check the "
+                         "simulator or planner that produced it)")
 
 
 def _check(values_shape: tuple, grid: Grid, points_shape: tuple) -> None:

@@ -47,6 +47,8 @@ def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bo
     finite = cost[np.isfinite(cost)]
     if finite.size == 0 or finite.min() <= 0:
         raise ValueError("cost must have positive finite values where traversable (got none or <= 0)")
+    if not (isinstance(resolution, int | float) and math.isfinite(resolution) and resolution > 0):
+        raise ValueError(f"resolution = {resolution!r}: give the cell size in metres, a finite number > 0")
     start, goal = _check_cell("start", start, cost), _check_cell("goal", goal, cost)
     rows, cols = cost.shape
     # A border of blocked cells replaces the bounds checks; row-major flat indices keep their order, so

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import types
 import typing
 from pathlib import Path
@@ -131,6 +132,8 @@ def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
             raise ParamsError(f"{key} = {value!r}: expected {words}")
         if hint is float:
             value = float(value)
+            if not math.isfinite(value):
+                raise ParamsError(f"{key} = {value!r}: expected a finite number")
     lo, hi = meta.get("min"), meta.get("max")
     if (lo is not None and value < lo) or (hi is not None and value > hi):
         allowed = f"between {lo} and {hi}" if lo is not None and hi is not None else (

@@ -98,7 +98,7 @@ class PacerPhaseEpochs:
 
 @dataclass(frozen=True)
 class PacerTrainParams:
-    device: str  # "cpu" or "cuda"
+    device: Literal["cpu", "cuda"]
     epochs: PacerPhaseEpochs
     examples_per_epoch: int = between(1)  # drawn uniformly over the phase's datasets (Sec. V-C)
     val_examples: int = between(1)  # first items of each of the phase's validation sets, per epoch

@@ -1,0 +1,96 @@
+"""Bad input found in the issue-13 trial: each stops with one clear line naming the thing and the fix."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+
+from navlab.core.io import DataError
+from navlab.core.params import ParamsError, load_params
+from navlab.pacer.train import load_model
+from navlab.reach.grid import Grid
+from navlab.reach.lookup import interpolate, interpolate_torch
+from navlab.search.grid_astar import plan
+
+GRID = Grid((0.0, 0.0), (1.0, 1.0), (5, 5), (False, False))
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_hj_lookup_of_a_non_finite_state_raises(bad):
+    values = np.zeros(GRID.shape)
+    with pytest.raises(ValueError, match="NaN or inf"):
+        interpolate(values, GRID, np.array([[0.5, bad]]))
+    with pytest.raises(ValueError, match="NaN or inf"):
+        interpolate_torch(torch.zeros(GRID.shape), GRID, torch.tensor([[bad, 0.5]]))
+
+
+@pytest.mark.parametrize("resolution", [0.0, -1.0, math.nan, math.inf])
+def test_grid_astar_refuses_a_bad_resolution(resolution):
+    with pytest.raises(ValueError, match=r"resolution = .*cell size in metres"):
+        plan(np.ones((4, 4)), (0, 0), (3, 3), resolution=resolution)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("lr: {smoke: 0.003", "lr: {smoke: .nan"), "pacer.train.lr = nan: expected a finite number"),
+    (("cfl: 0.75", "cfl: .inf"), "hj.grids.solver.cfl = inf: expected a finite number"),
+    (("  train:\n    device: cpu", "  train:\n    device: cpuu"), "pacer.train.device = 'cpuu'"),
+])
+def test_params_refuse_non_finite_numbers_and_unknown_devices(tmp_path, edit, message):
+    text = Path("params.yaml").read_text()
+    assert edit[0] in text
+    path = tmp_path / "params.yaml"
+    path.write_text(text.replace(edit[0], edit[1], 1))
+    with pytest.raises(ParamsError, match=message.replace("(", r"\(").replace("[", r"\[")):
+        load_params("smoke", path)
+
+
+@pytest.mark.parametrize("content", [b"", b"PK\x03\x04 truncated zip", b"not a torch file at all"])
+def test_unreadable_phase_model_names_the_file_and_the_stage(tmp_path, content):
+    path = tmp_path / "phase1" / "model.pt"
+    path.parent.mkdir()
+    path.write_bytes(content)
+    with pytest.raises(DataError, match=r"model\.pt is unreadable.*--only pacer_phase1"):
+        load_model(path)
+
+
+def test_missing_phase_model_names_the_stage(tmp_path):
+    with pytest.raises(DataError, match=r"missing.*--only pacer_phase2"):
+        load_model(tmp_path / "phase2" / "model.pt")
+
+
+def test_mismatched_phase_model_names_the_file(tmp_path):
+    path = tmp_path / "phase3" / "model.pt"
+    path.parent.mkdir()
+    torch.save({"model_config": {}, "context_pairs": 3, "weights": {}}, path)
+    with pytest.raises(DataError, match=r"does not hold a network this code can load.*--only pacer_phase3"):
+        load_model(path)
+
+
+def test_truncated_terrain_photo_is_refused(tmp_path):
+    import cv2
+
+    from navlab.pacer.terrain import _read_photo
+
+    path = tmp_path / "photo.jpg"
+    cv2.imwrite(str(path), np.full((64, 64, 3), 120, np.uint8))
+    path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    with pytest.raises(DataError, match="not a readable image.*data build --force"):
+        _read_photo(str(path))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["notebook", "run", "notebooks/no_such.ipynb"], "no such notebook"),
+    (["notebook", "run", "README.md"], "no such notebook"),
+    (["reports", "index", "--reports-dir", "reprots"], "reprots/ does not exist"),
+])
+def test_cli_bad_paths_are_one_line_errors(args, message):
+    proc = subprocess.run([sys.executable, "-c", f"import sys; from navlab.cli import main; sys.exit(main({args!r}))"],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and message in proc.stderr, proc.stderr
+    assert not Path("reprots").exists()
