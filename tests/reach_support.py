@@ -5,6 +5,8 @@ from __future__ import annotations
 import pytest
 import torch
 
+from navlab.reach.lookup import _rotate, _stack, wrap_angle
+
 
 @pytest.fixture(autouse=False)
 def single_thread():
@@ -42,3 +44,19 @@ def interpolate(grid, values: torch.Tensor, points: list[torch.Tensor]) -> torch
             w = w * (weight[d] if b else 1 - weight[d])
         out += w * values[tuple(index[d][b] for d, b in enumerate(bits))]
     return out
+
+
+# Inverses of navlab.reach.lookup's frame changes: only the tests that check the round trip need them.
+
+
+def from_goal_frame(states, goal_xy, goal_heading=0.0):
+    """Inverse of ``to_goal_frame``."""
+    x, y = _rotate(states[:, 0], states[:, 1], goal_heading)
+    return _stack([x + goal_xy[..., 0], y + goal_xy[..., 1], states[:, 2],
+                   wrap_angle(states[:, 3] + goal_heading)])
+
+
+def from_robot_frame(robot_states, rel_xy):
+    """Inverse of ``to_robot_frame``: world position of a human seen at ``rel_xy`` by each robot state."""
+    x, y = _rotate(rel_xy[..., 0], rel_xy[..., 1], robot_states[:, 3])
+    return _stack([x + robot_states[:, 0], y + robot_states[:, 1]])

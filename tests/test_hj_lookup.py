@@ -10,8 +10,6 @@ from hypothesis import strategies as st
 
 from navlab.reach.grid import Grid
 from navlab.reach.lookup import (
-    from_goal_frame,
-    from_robot_frame,
     interpolate,
     interpolate_torch,
     outside,
@@ -19,6 +17,7 @@ from navlab.reach.lookup import (
     to_robot_frame,
     wrap_angle,
 )
+from reach_support import from_goal_frame, from_robot_frame
 
 GRID = Grid((-2.0, -1.0, 0.0, -math.pi), (2.0, 1.0, 1.0, math.pi), (9, 5, 4, 12), (False, False, False, True))
 GRID3 = Grid((-2.0, -1.0, 0.0), (2.0, 1.0, 1.0), (9, 5, 4), (False, False, False))

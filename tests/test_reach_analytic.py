@@ -5,16 +5,12 @@ import math
 import pytest
 import torch
 
-from navlab.reach.dynamics import (
-    DoubleIntegrator,
-    DubinsCar4D,
-    SingleIntegrator,
-    SingleIntegratorPursuitEvasion,
-)
+from navlab.reach.dynamics import DubinsCar4D
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import solve
 from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
+from reach_dynamics_support import DoubleIntegrator, SingleIntegrator, SingleIntegratorPursuitEvasion
 from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")

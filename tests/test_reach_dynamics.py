@@ -7,12 +7,8 @@ import torch
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from navlab.reach.dynamics import (
-    DoubleIntegrator,
-    DubinsCar4D,
-    HumanRobotRelative,
-    SingleIntegratorPursuitEvasion,
-)
+from navlab.reach.dynamics import DubinsCar4D, HumanRobotRelative
+from reach_dynamics_support import DoubleIntegrator, SingleIntegratorPursuitEvasion
 
 CAR = DubinsCar4D(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2)
 HUMAN = HumanRobotRelative(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2, human_speed=0.8)

@@ -5,10 +5,10 @@ import math
 import pytest
 import torch
 
-from navlab.reach.dynamics import SingleIntegrator
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.value_functions import time_to_reach
+from reach_dynamics_support import SingleIntegrator
 from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")

@@ -31,3 +31,30 @@ def test_rows_with_the_same_key_are_an_error_not_a_lost_row(tmp_path):
         write_table(tmp_path, "hj", "t", paper_ref="x", profile="smoke", seeds=[0], columns=["method", "eps", "cost"],
                     rows=rows, paper_rows=[], notes="")
     assert not (tmp_path / "hj").exists()
+
+
+def test_index_lists_every_design_table_without_a_report(tmp_path):
+    write_table(tmp_path, "pacer", "table1_seen", paper_ref="PACER Table I", profile="smoke", seeds=[0],
+                columns=["method", "low"], rows=[{"method": "PACER", "low": 0.3}], paper_rows=[], notes="")
+    index = write_index(tmp_path).read_text()
+    pending = index.split("## Not reproduced yet", 1)[1]
+    assert "`pacer/table1_seen`" not in pending and "`pacer/table2_unseen`" in pending
+    assert "`surenav/table1_human_likeness`" in pending and "`hj/table9_humans`" in pending
+
+
+def _report(value, ci=None, other=0.5):
+    row = {"method": "PACER", "low": value, "high": other}
+    if ci is not None:
+        row["low_ci"] = ci
+    return {"table_id": "t", "columns": ["method", "low", "low_ci", "high"], "rows": [row], "paper": []}
+
+
+def test_diff_flags_numbers_outside_their_interval_and_any_change_without_one():
+    from navlab.pipeline.report_diff import diff_reports
+
+    assert diff_reports(_report(0.33, [0.30, 0.36]), _report(0.34, [0.31, 0.37])) == []  # inside both
+    moved = diff_reports(_report(0.3336, [0.32, 0.34]), _report(0.30, [0.28, 0.31]))
+    assert [(m.column, m.interval) for m in moved] == [("low", (0.32, 0.34))]
+    moved = diff_reports(_report(0.3), _report(0.3, other=0.6))  # no interval: any change is shown
+    assert [(m.row, m.column, m.interval) for m in moved] == [("PACER", "high", None)]
+    assert "0.5 -> 0.6 (changed; no interval)" in str(moved[0])

@@ -133,6 +133,32 @@ def _reports_index(args) -> int:
     return 0
 
 
+def _reports_diff(args) -> int:
+    import json
+
+    from navlab.pipeline.report_diff import diff_reports
+    from navlab.pipeline.reports import read_table
+
+    root, reports_dir = repo_root(), Path(args.reports_dir)
+    if not reports_dir.is_dir():
+        raise DataError(f"{reports_dir}/ does not exist; pass the folder of regenerated reports with --reports-dir")
+    moved, compared = [], 0
+    for path in sorted(reports_dir.glob("*/*.json")):
+        rel = path.resolve().relative_to(root).as_posix() if path.resolve().is_relative_to(root) else \
+            f"reports/{path.parent.name}/{path.name}"
+        shown = subprocess.run(["git", "show", f"{args.rev}:{rel}"], cwd=root, capture_output=True, text=True,
+                               check=False)
+        if shown.returncode != 0:
+            print(f"{rel}: not in {args.rev} (new table)")
+            continue
+        compared += 1
+        moved += diff_reports(json.loads(shown.stdout), read_table(path))
+    for m in moved:
+        print(m)
+    print(f"{compared} tables compared with {args.rev}: {len(moved)} numbers moved")
+    return 1 if moved else 0
+
+
 def _params_show(args) -> int:
     import dataclasses
     import json
@@ -192,6 +218,12 @@ def build_parser() -> argparse.ArgumentParser:
     i = rep_cmds.add_parser("index", help="write reports/README.md from every report JSON")
     folder_args(i, "reports")
     i.set_defaults(func=_reports_index)
+
+    d = rep_cmds.add_parser("diff", help="compare regenerated reports with the committed ones; flag every number "
+                                         "outside its interval")
+    folder_args(d, "reports")
+    d.add_argument("--rev", default="HEAD", help="git revision holding the committed reports (default: HEAD)")
+    d.set_defaults(func=_reports_diff)
 
     par = groups.add_parser("params", help="show validated parameters")
     par_cmds = par.add_subparsers(dest="cmd", required=True)

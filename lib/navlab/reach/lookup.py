@@ -130,24 +130,11 @@ def to_goal_frame(states, goal_xy, goal_heading=0.0):
     return _stack([x, y, states[:, 2], wrap_angle(states[:, 3] - goal_heading)])
 
 
-def from_goal_frame(states, goal_xy, goal_heading=0.0):
-    """Inverse of ``to_goal_frame``."""
-    x, y = _rotate(states[:, 0], states[:, 1], goal_heading)
-    return _stack([x + goal_xy[..., 0], y + goal_xy[..., 1], states[:, 2],
-                   wrap_angle(states[:, 3] + goal_heading)])
-
-
 def to_robot_frame(robot_states, human_xy):
     """Human position relative to the robot, in the robot's frame (x ahead, y to the left): (N, 2)."""
     x, y = _rotate(human_xy[..., 0] - robot_states[:, 0], human_xy[..., 1] - robot_states[:, 1],
                    -robot_states[:, 3])
     return _stack([x, y])
-
-
-def from_robot_frame(robot_states, rel_xy):
-    """Inverse of ``to_robot_frame``: world position of a human seen at ``rel_xy`` by each robot state."""
-    x, y = _rotate(rel_xy[..., 0], rel_xy[..., 1], robot_states[:, 3])
-    return _stack([x + robot_states[:, 0], y + robot_states[:, 1]])
 
 
 class _Lookup:

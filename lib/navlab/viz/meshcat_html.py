@@ -18,8 +18,6 @@ from meshcat import geometry as g
 from meshcat import transformations as tf
 from meshcat.servers.zmqserver import VIEWER_ROOT, create_command
 
-from navlab.core.io import write_text
-
 _PAGE = """<!DOCTYPE html>
 <html>
   <head><meta charset=utf-8><title>{title}</title></head>
@@ -60,12 +58,6 @@ class OfflineWindow:
 
 def offline_visualizer(title: str = "navlab") -> Visualizer:
     return Visualizer(window=OfflineWindow(title))
-
-
-def save_static_html(vis: Visualizer, path: str | Path) -> Path:
-    """Write ``vis.static_html()`` atomically."""
-    write_text(path, vis.static_html())
-    return Path(path)
 
 
 def add_mesh(vis: Visualizer, vertices: np.ndarray, faces: np.ndarray, color: int, opacity: float = 1.0):
