@@ -94,3 +94,93 @@ def test_cli_bad_paths_are_one_line_errors(args, message):
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and message in proc.stderr, proc.stderr
     assert not Path("reprots").exists()
+
+
+# --- HJ solver probed with degenerate arguments ------------------------------------------------------------
+
+
+def _car(**kw):
+    from navlab.reach.dynamics import DubinsCar4D
+
+    return DubinsCar4D(**{"v_max": 1.0, "a_min": -0.5, "a_max": 0.5, "omega_max": 1.0, **kw})
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: _car(omega_max=math.inf), "every bound must be a finite number"),
+    (lambda: _car(v_max=math.nan), "every bound must be a finite number"),
+    (lambda: Grid((0.0, math.nan), (1.0, 1.0), (5, 5), (False, False)), "bounds must be finite"),
+])
+def test_hj_degenerate_systems_and_grids_are_refused(make, message):
+    with pytest.raises(ValueError, match=message):
+        make()
+
+
+def test_hj_solver_refuses_an_infinite_horizon_a_short_periodic_axis_and_a_negative_radius():
+    from navlab.reach.settings import SolverSettings
+    from navlab.reach.solver import solve
+    from navlab.reach.value_functions import disk_signed_distance
+    from reach_dynamics_support import SingleIntegrator
+
+    grid = Grid((-1.0, -1.0), (1.0, 1.0), (11, 11), (False, False))
+    with pytest.raises(ValueError, match="horizon must be a finite number"):
+        solve(SingleIntegrator(1.0), grid, disk_signed_distance(grid, 0.5), math.inf, progress=False)
+    ring = Grid((-1.0, 0.0), (1.0, 1.0), (11, 2), (False, True))
+    with pytest.raises(ValueError, match="periodic axis 1 has 2 nodes.*at least 3 nodes"):
+        solve(SingleIntegrator(1.0), ring, disk_signed_distance(ring, 0.5), 0.1, SolverSettings(scheme="weno5"),
+              progress=False)
+    with pytest.raises(ValueError, match="disk radius = -0.3"):
+        disk_signed_distance(grid, -0.3)
+
+
+def test_map_ttr_goal_outside_the_room_is_a_params_error(smoke_params):
+    import dataclasses
+
+    from navlab.reach.precompute import map_ttr_spec
+
+    g = smoke_params.hj.grids
+    params = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=dataclasses.replace(
+        g, map_ttr=dataclasses.replace(g.map_ttr, goal_xy=(40.0, 3.2)))))
+    with pytest.raises(ParamsError, match=r"map_ttr.goal_xy = \[40.0, 3.2\]: not in the free space"):
+        map_ttr_spec(params)
+
+
+# --- params.yaml ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("  city: helsinki\n", "  city: helsinki\n  city: monaco\n", r"line \d+: .*duplicate key 'city'"),
+    ("cfl: 0.75", "cfl: [0.75", r"line \d+: not valid YAML"),
+    ("lr: {smoke: 0.003,", "lr: {smoek: 0.003,", "pacer.train.lr: unknown profile 'smoek'"),
+    ("cfl: 0.75", "cfl: {smoek: 0.5}", r"hj.grids.solver.cfl = .*unknown: smoek"),
+])
+def test_params_yaml_mistakes_name_the_line_or_the_profile(tmp_path, old, new, message):
+    text = Path("params.yaml").read_text()
+    assert old in text
+    path = tmp_path / "params.yaml"
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(ParamsError, match=message):
+        load_params("smoke", path)
+
+
+# --- the dataset's indexes ------------------------------------------------------------------------------------
+
+
+def test_demos_are_read_from_the_index_and_a_bad_index_is_named(smoke_data, tmp_path):
+    import shutil
+
+    from navlab.maps.dataset import load_index
+    from navlab.surenav.experts import load_demos
+
+    data = tmp_path / "data"
+    shutil.copytree(smoke_data, data)
+    folder = data / "surenav" / "demos" / "test"
+    listed = load_demos(data, "test")
+    shutil.copy(next(folder.glob("*.npz")), folder / "stray.npz")
+    assert [m.map_name for m in load_demos(data, "test")] == [m.map_name for m in listed]  # a stray file is ignored
+    (folder / f"{listed[0].map_name}.npz").unlink()
+    with pytest.raises(DataError, match=rf"{listed[0].map_name}\.npz is missing.*data build"):
+        load_demos(data, "test")
+    index = data / "surenav" / "maps" / "index.json"
+    index.write_text(index.read_text()[:20])
+    with pytest.raises(DataError, match=r"index\.json is unreadable.*data build --force"):
+        load_index(data)

@@ -141,3 +141,12 @@ def folder_lock(lock_file: str | Path, what: str) -> Iterator[None]:
             fh.seek(0)
             fh.truncate()
             fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def read_index(path: str | Path) -> Any:
+    """A data index (``index.json``); a truncated or corrupt one is a DataError naming the rebuild."""
+    try:
+        return json.loads(Path(path).read_text())
+    except ValueError as err:
+        raise DataError(f"{path} is unreadable ({err}); rebuild the dataset with `{DATA_BUILD_COMMAND} --force`") \
+            from None

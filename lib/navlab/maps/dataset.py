@@ -8,14 +8,13 @@ procedural; the test maps are held-out real tiles (see ``tiles``).
 
 from __future__ import annotations
 
-import json
 import shutil
 from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
-from navlab.core.io import require, write_json
+from navlab.core.io import read_index, require, write_json
 from navlab.core.params import Params
 from navlab.core.seeding import rng
 from navlab.maps.network import WalkableNetwork, network_from_raster
@@ -75,7 +74,7 @@ def build_maps(params: Params, out_dir: Path) -> None:
 
 def load_index(data_dir: str | Path) -> list[dict]:
     """Every map's index entry, in build order."""
-    return json.loads(require(data_dir, *FOLDER, "index.json").read_text())["maps"]
+    return read_index(require(data_dir, *FOLDER, "index.json"))["maps"]
 
 
 def check_split(split: str) -> None:

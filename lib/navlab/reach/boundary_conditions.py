@@ -12,6 +12,9 @@ import torch
 def pad(values: torch.Tensor, dim: int, width: int, periodic: bool) -> torch.Tensor:
     """``values`` with ``width`` ghost cells on both ends of axis ``dim``."""
     n = values.shape[dim]
+    if periodic and width > n:
+        raise ValueError(f"periodic axis {dim} has {n} nodes, fewer than the {width} ghost cells the scheme "
+                         f"reads on each side; give that axis at least {width} nodes or use a narrower scheme")
     if periodic:
         return torch.cat([values.narrow(dim, n - width, width), values, values.narrow(dim, 0, width)], dim)
     steps_shape = [1] * values.ndim

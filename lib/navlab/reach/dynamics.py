@@ -41,6 +41,12 @@ def box_argopt(p: torch.Tensor, lo, hi, mode: Mode) -> torch.Tensor:
     return torch.where((p > 0) == (mode == "max"), hi, lo)
 
 
+def _check_finite(system, *bounds: float) -> None:
+    """An infinite bound makes the CFL time step 0 (the solve never ends); NaN fails every comparison."""
+    if not all(math.isfinite(b) for b in bounds):
+        raise ValueError(f"{type(system).__name__}: every bound must be a finite number, got {system}")
+
+
 def _sign(mode: Mode) -> float:
     return 1.0 if mode == "max" else -1.0
 
@@ -92,6 +98,7 @@ class DubinsCar4D(Dynamics):
 
     def __post_init__(self):
         _check_mode("control_mode", self.control_mode)
+        _check_finite(self, self.v_max, self.a_min, self.a_max, self.omega_max)
         if not (self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0):
             raise ValueError(f"DubinsCar4D needs v_max > 0, a_min < 0 < a_max, omega_max > 0; got {self}")
 
@@ -154,6 +161,7 @@ class HumanRobotRelative(Dynamics):
 
     def __post_init__(self):
         _check_mode("control_mode", self.control_mode)
+        _check_finite(self, self.v_max, self.a_min, self.a_max, self.omega_max, self.human_speed)
         if not (
             self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0 and self.human_speed >= 0
         ):

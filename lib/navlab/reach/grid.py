@@ -7,6 +7,7 @@ as an N×d array: ``axes`` are 1-D and broadcast with ``mesh``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +25,8 @@ class Grid:
         n = len(self.shape)
         if not (len(self.lo) == len(self.hi) == len(self.periodic) == n):
             raise ValueError(f"Grid: lo, hi, shape and periodic need one entry per dimension ({n})")
+        if not all(math.isfinite(b) for b in (*self.lo, *self.hi)):
+            raise ValueError(f"Grid: bounds must be finite numbers, got lo={self.lo}, hi={self.hi}")
         if any(s < 2 for s in self.shape) or any(h <= lo for lo, h in zip(self.lo, self.hi)):
             raise ValueError(f"Grid: need shape >= 2 and hi > lo per dimension, got {self}")
 

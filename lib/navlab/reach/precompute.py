@@ -30,7 +30,7 @@ import numpy as np
 import torch
 
 from navlab.core.fingerprint import code_fingerprint
-from navlab.core.params import Params
+from navlab.core.params import Params, ParamsError
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.grid import Grid
 from navlab.reach.lookup import HumanBRTLookup, MapTTRLookup, StaticBRTLookup, TTRLookup
@@ -166,6 +166,12 @@ def human_brt_spec(params: Params) -> GridSpec:
 def map_ttr_spec(params: Params) -> GridSpec:
     g = params.hj.grids
     room = load_room(g.map_ttr.room)
+    (x0, x1), (y0, y1) = room.bounds
+    gx, gy = g.map_ttr.goal_xy
+    if not (x0 < gx < x1 and y0 < gy < y1) or float(room.obstacle_distance(np.array(gx), np.array(gy))) <= 0:
+        raise ParamsError(f"hj.grids.map_ttr.goal_xy = {list(g.map_ttr.goal_xy)}: not in the free space of room "
+                          f"{g.map_ttr.room!r} (x in ({x0}, {x1}), y in ({y0}, {y1}), outside walls and obstacles); "
+                          "choose a goal inside the room in params.yaml")
     grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
     inputs = {"code": solver_code(), "kind": "map_ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr), "map_ttr": _asdict(g.map_ttr),

@@ -8,6 +8,7 @@ then the optional convergence test on the band near the zero level set, then the
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -40,11 +41,11 @@ class Solution:
 def _times(times) -> tuple[np.ndarray, bool]:
     if np.ndim(times) == 0:
         horizon = float(times)
-        if not horizon > 0:
-            raise ValueError(f"solve: the horizon must be positive, got {times!r}")
+        if not (horizon > 0 and math.isfinite(horizon)):  # inf: no step is ever taken, V stays the failure set
+            raise ValueError(f"solve: the horizon must be a finite number of seconds > 0, got {times!r}")
         return np.array([horizon]), False
     ts = np.asarray(times, dtype=float)
-    if ts.ndim != 1 or len(ts) == 0 or ts[0] < 0 or np.any(np.diff(ts) <= 0):
+    if ts.ndim != 1 or len(ts) == 0 or ts[0] < 0 or np.any(np.diff(ts) <= 0) or not np.isfinite(ts).all():
         raise ValueError(
             f"solve: times must be a non-empty increasing sequence of times to go >= 0, got {times!r}"
         )

@@ -24,6 +24,8 @@ def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.fl
                          center: tuple[float, float] = (0.0, 0.0)) -> torch.Tensor:
     """|(x_0, x_1) − center| − radius on the whole grid: a disk in the first two coordinates, a cylinder
     in the rest."""
+    if not (math.isfinite(radius) and radius >= 0):
+        raise ValueError(f"disk radius = {radius!r}: must be a finite number of metres >= 0")
     x, y = grid.mesh(0, device, dtype) - center[0], grid.mesh(1, device, dtype) - center[1]
     return (torch.sqrt(x * x + y * y) - radius).expand(grid.shape).contiguous()
 

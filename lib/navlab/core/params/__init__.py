@@ -40,11 +40,14 @@ def load_params(profile: str | None = None, path: str | Path | None = None) -> P
     """Read params.yaml, resolve ``profile`` (None: the file's own ``profile`` key) and validate it."""
     path = Path(path) if path is not None else repo_root() / "params.yaml"
     try:
-        raw = yaml.safe_load(path.read_text())
+        raw = yaml.load(path.read_text(), Loader=_UniqueKeyLoader)
     except FileNotFoundError:
         raise ParamsError(f"{path}: no such file; params.yaml must sit at the checkout root") from None
     except yaml.YAMLError as err:
-        raise ParamsError(f"{path}: not valid YAML ({str(err).splitlines()[0]})") from None
+        mark = getattr(err, "problem_mark", None)
+        line = f" line {mark.line + 1}:" if mark is not None else ""
+        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        raise ParamsError(f"{path}:{line} not valid YAML ({problem}); fix that line") from None
     if not isinstance(raw, dict):
         raise ParamsError(f"{path}: expected a mapping of sections at the top level")
     profile = profile if profile is not None else raw.get("profile", "default")
@@ -55,9 +58,28 @@ def load_params(profile: str | None = None, path: str | Path | None = None) -> P
     return _build(Params, resolved, "")
 
 
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """SafeLoader that refuses a repeated key (plain YAML lets the last one silently win)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"duplicate key {key!r} (the second would silently win); keep one",
+                    key_node.start_mark)
+            seen.add(key)
+        return super().construct_mapping(node, deep)
+
+
 def resolve_profile(tree: Any, profile: str, where: str = "") -> Any:
     """Replace every ``{smoke:…, default:…, paper:…}`` leaf by the value for ``profile``."""
     if isinstance(tree, dict):
+        typos = sorted(set(map(str, tree)) - set(PROFILES))
+        if tree and typos and set(tree) & set(PROFILES):
+            raise ParamsError(f"{where or 'params.yaml'}: unknown profile {typos[0]!r} in a profile mapping; "
+                              f"profiles are {', '.join(PROFILES)}")
         if tree and set(tree) <= set(PROFILES):
             if "default" not in tree:
                 raise ParamsError(f"{where or 'params.yaml'} = {tree!r}: a profile mapping needs a 'default' value")
@@ -128,6 +150,9 @@ def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
                 str: (str, "a string")}.get(hint)
     if expected is not None:
         types_ok, words = expected
+        if isinstance(value, dict):  # a leaf given as a mapping: a profile mapping with a mistyped profile
+            raise ParamsError(f"{key} = {value!r}: expected {words}, or a profile mapping with keys "
+                              f"{', '.join(PROFILES)} (unknown: {', '.join(map(str, value))})")
         if (isinstance(value, bool) and hint is not bool) or not isinstance(value, types_ok):
             raise ParamsError(f"{key} = {value!r}: expected {words}")
         if hint is float:

@@ -18,7 +18,17 @@ import numpy as np
 from tqdm import tqdm
 
 from navlab.core.fingerprint import code_fingerprint
-from navlab.core.io import BUILD_STAMPS, load_npz, require, save_npz, sha256_json, write_json, write_text
+from navlab.core.io import (
+    BUILD_STAMPS,
+    DataError,
+    load_npz,
+    read_index,
+    require,
+    save_npz,
+    sha256_json,
+    write_json,
+    write_text,
+)
 from navlab.core.params import Params
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
@@ -79,11 +89,15 @@ def save_map_demos(path: str | Path, superpixels: np.ndarray, static: list[Demon
 
 
 def load_demos(data_dir: str | Path, split: str) -> list[MapDemos]:
-    """Every map's demonstrations of one split, in map-name order."""
+    """Every map's demonstrations of one split, in map-name order: the maps ``index.json`` lists, not the
+    files that happen to lie in the folder (a deleted or stray file must not change the dataset)."""
     check_split(split)
-    folder = require(data_dir, DEMOS_DIR, split)
+    index = read_index(require(data_dir, DEMOS_DIR, "index.json"))
+    if split not in index:
+        raise DataError(f"{Path(data_dir, DEMOS_DIR, 'index.json')} lists no {split!r} split; {_FIX}")
     out = []
-    for path in sorted(folder.glob("*.npz")):
+    for name in sorted(index[split]):
+        path = Path(data_dir, DEMOS_DIR, split, f"{name}.npz")
         arrays = load_npz(path, fix=_FIX)
         out.append(MapDemos(path.stem, split, arrays["superpixels"], _unpack(arrays, "static"),
                             _unpack(arrays, "semi_static")))
