@@ -184,3 +184,44 @@ def test_demos_are_read_from_the_index_and_a_bad_index_is_named(smoke_data, tmp_
     index.write_text(index.read_text()[:20])
     with pytest.raises(DataError, match=r"index\.json is unreadable.*data build --force"):
         load_index(data)
+
+
+@pytest.mark.parametrize("context_shape, message", [
+    ((1, 6, 16, 8), r"takes \(B, 9, 2h, h\), 3 preference pairs"),
+    ((1, 9, 16, 16), "two square patches stacked"),
+])
+def test_pacer_model_names_a_wrong_context(context_shape, message):
+    from navlab.pacer.model import build_model
+
+    model = build_model(load_params("smoke").pacer.model, context_pairs=3)
+    with pytest.raises(ValueError, match=message):
+        model(torch.zeros(1, 3, 32, 32), torch.zeros(context_shape))
+
+
+def test_failed_notebook_run_keeps_the_executed_notebook(tmp_path):
+    import nbformat
+
+    from navlab.pipeline.notebooks import run_notebook
+
+    nb = nbformat.v4.new_notebook(metadata={"kernelspec": {"name": "python3", "language": "python",
+                                                          "display_name": "Python 3"}})
+    params = nbformat.v4.new_code_cell("profile = 'smoke'\ndata_dir = artifacts_dir = reports_dir = ''")
+    params.metadata["tags"] = ["parameters"]
+    nb.cells = [params, nbformat.v4.new_code_cell("raise ValueError('boom')")]
+    source = tmp_path / "broken.ipynb"
+    nbformat.write(nb, source)
+    with pytest.raises(DataError, match=r"failed in cell .*ValueError: boom.*broken\.failed\.ipynb"):
+        run_notebook(source, profile="smoke", output=tmp_path / "out" / "broken.ipynb", progress=False)
+    kept = nbformat.read(tmp_path / "out" / "broken.failed.ipynb", as_version=4)
+    assert any(o.get("ename") == "ValueError" for c in kept.cells for o in c.get("outputs", []))
+    assert not (tmp_path / "out" / "broken.ipynb").exists()
+
+
+def test_notebook_run_with_another_profile_keeps_the_tracked_reports(tmp_path, monkeypatch):
+    from navlab import cli
+
+    calls = {}
+    monkeypatch.setattr("navlab.pipeline.notebooks.run_notebook", lambda nb, **kw: calls.update(kw) or Path("x"))
+    cli.main(["notebook", "run", "notebooks/00_quickstart.ipynb", "--profile", "smoke",
+              "--artifacts-dir", str(tmp_path)])
+    assert calls["reports_dir"] == str(tmp_path / "reports" / "smoke")

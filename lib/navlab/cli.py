@@ -115,14 +115,13 @@ def _data_verify(args) -> int:
 def _notebook_run(args) -> int:
     from navlab.pipeline.notebooks import run_notebook
 
-    run_notebook(
-        args.notebook,
-        profile=load_params(args.profile).profile,
-        output=args.output,
-        data_dir=args.data_dir,
-        artifacts_dir=args.artifacts_dir,
-        reports_dir=args.reports_dir,
-    )
+    profile = load_params(args.profile).profile
+    reports_dir = args.reports_dir
+    if reports_dir is None:  # the tracked reports/ hold the pipeline's profile only; others go beside artefacts
+        reports_dir = "reports" if profile == load_params().profile else str(Path(args.artifacts_dir) / "reports" / profile)
+    out = run_notebook(args.notebook, profile=profile, output=args.output, data_dir=args.data_dir,
+                       artifacts_dir=args.artifacts_dir, reports_dir=reports_dir)
+    print(f"ran {args.notebook} ({profile}) -> {out}; reports in {reports_dir}/")
     return 0
 
 
@@ -210,7 +209,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("notebook", help="path of the notebook, e.g. notebooks/00_quickstart.ipynb")
     profile_arg(r)
     r.add_argument("--output", default=None, help="executed copy (default: artifacts/notebooks/<same path>)")
-    folder_args(r, "data", "artifacts", "reports")
+    folder_args(r, "data", "artifacts")
+    r.add_argument("--reports-dir", default=None, help="report folder (default: reports for the profile of "
+                                                       "params.yaml, else artifacts/reports/<profile>)")
     r.set_defaults(func=_notebook_run)
 
     rep = groups.add_parser("reports", help="report files")

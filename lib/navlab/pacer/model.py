@@ -121,6 +121,7 @@ class PacerNet(nn.Module):
         self.down = nn.ModuleList(conv_block(c, w) for c, w in zip((colour_channels, *widths[:-1]), widths))
         self.bottleneck = conv_block(widths[-1], cfg.bottleneck_channels)
         c_ctx = colour_channels * context_pairs
+        self.context_pairs, self.context_channels = context_pairs, c_ctx
         self.context_encoder = (ContextResNet50(c_ctx, cfg.context_dim) if cfg.context_encoder == "resnet50"
                                 else ContextCNN(c_ctx, tuple(cfg.context_channels), cfg.context_dim))
         ups = (cfg.bottleneck_channels, *widths[::-1])
@@ -138,11 +139,22 @@ class PacerNet(nn.Module):
         """Image height and width must be multiples of this (one max-pool per encoder stage)."""
         return 2 ** len(self.down)
 
+    def check_context(self, context: torch.Tensor) -> None:
+        """A context is (B, 3n, 2h, h): n pairs of square h×h patches stacked vertically (Sec. IV-A)."""
+        if context.ndim != 4 or context.shape[1] != self.context_channels:
+            raise ValueError(f"context of shape {tuple(context.shape)}: this model takes (B, {self.context_channels}, "
+                             f"2h, h), {self.context_pairs} preference pairs (pacer.data.n_pairs); build the context "
+                             "with the n_pairs the model was trained with")
+        if context.shape[2] != 2 * context.shape[3]:
+            raise ValueError(f"context of shape {tuple(context.shape)}: each pair is two square patches stacked "
+                             "(height = 2 x width = 2 x pacer.data.patch_size); check the patch size")
+
     def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
         h, w = image.shape[-2:]
         if h % self.stride or w % self.stride:
             raise ValueError(f"image size {h}x{w}: height and width must be multiples of {self.stride} "
                              f"(2 ** len(pacer.model.image_channels)); change the BEV size in params.yaml")
+        self.check_context(context)
         z = self.context_encoder(context)
         skips, x = [], image
         for block in self.down:

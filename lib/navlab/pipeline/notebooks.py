@@ -35,6 +35,7 @@ def run_notebook(
 ) -> Path:
     """Execute ``notebook`` with papermill; the executed copy goes to ``output`` (atomically)."""
     import papermill
+    from papermill.exceptions import PapermillExecutionError
 
     root = repo_root()
     notebook = Path(notebook)
@@ -50,8 +51,14 @@ def run_notebook(
         "reports_dir": os.path.abspath(reports_dir),
     }
     with atomic_path(output, suffix=".ipynb") as tmp:
-        papermill.execute_notebook(
-            str(source), str(tmp), parameters=parameters, cwd=str(root), kernel_name="python3",
-            progress_bar=progress, log_output=False,
-        )
+        try:
+            papermill.execute_notebook(
+                str(source), str(tmp), parameters=parameters, cwd=str(root), kernel_name="python3",
+                progress_bar=progress, log_output=False,
+            )
+        except PapermillExecutionError as err:  # keep what ran: it shows the failing cell
+            failed = output.with_suffix(".failed.ipynb")
+            os.replace(tmp, failed)
+            raise DataError(f"{notebook} failed in cell {err.exec_count} ({err.ename}: {err.evalue}); the executed "
+                            f"notebook is kept at {failed}") from None
     return output
