@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from navlab.core.io import sha256_file
+from navlab.core.io import sha256_file, write_json
 from navlab.core.labels import HARD_IDS, LABELS, SOFT_IDS, label_id
 from navlab.core.params import load_params
 from navlab.core.params.surenav_graph import GraphParams
@@ -141,7 +141,8 @@ def test_demonstrations_are_deterministic_and_round_trip(tmp_path):
         files.append(tmp_path / f"run{run}" / DEMOS_DIR / "train" / "city.npz")
         save_map_demos(files[-1], sp, static, semi, fingerprint="x")
     assert sha256_file(files[0]) == sha256_file(files[1])
-    (loaded,) = load_demos(tmp_path / "run0", "train")
+    write_json(tmp_path / "run0" / DEMOS_DIR / "index.json", {"train": {"city": {"static": 2, "semi_static": 2}}})
+    (loaded,) = load_demos(tmp_path / "run0", "train")  # load_demos reads the maps index.json lists
     assert loaded.map_name == "city" and np.array_equal(loaded.superpixels, sp)
     for mine, back in zip(static + semi, loaded.static + loaded.semi_static, strict=True):
         for name in ("path", "start", "goal", "relaxed_cells", "relaxed_superpixels", "delta_cells", "delta_labels"):
