@@ -178,12 +178,13 @@ def _read_photo(path: str) -> np.ndarray:
 
 
 def _complete_image(path: Path) -> bool:
-    """Whether a JPEG ends with its end-of-image marker and a PNG with its IEND chunk (not truncated)."""
-    tail = path.read_bytes()[-12:]
-    if path.suffix.lower() in (".jpg", ".jpeg"):
-        return tail.rstrip(b"\0").endswith(b"\xff\xd9")
-    if path.suffix.lower() == ".png":
-        return b"IEND" in tail
+    """Whether a JPEG ends with its end-of-image marker and a PNG with its IEND chunk (not truncated);
+    the format is read from the file's magic bytes, not its name."""
+    data = path.read_bytes()
+    if data[:2] == b"\xff\xd8":
+        return data.rstrip(b"\0").endswith(b"\xff\xd9")
+    if data[:8] == b"\x89PNG\r\n\x1a\n":
+        return b"IEND" in data[-12:]
     return True
 
 
