@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -89,10 +87,12 @@ def test_truncated_terrain_photo_is_refused(tmp_path):
     (["notebook", "run", "README.md"], "no such notebook"),
     (["reports", "index", "--reports-dir", "reprots"], "reprots/ does not exist"),
 ])
-def test_cli_bad_paths_are_one_line_errors(args, message):
-    proc = subprocess.run([sys.executable, "-c", f"import sys; from navlab.cli import main; sys.exit(main({args!r}))"],
-                          capture_output=True, text=True, check=False)
-    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and message in proc.stderr, proc.stderr
+def test_cli_bad_paths_are_one_line_errors(args, message, capsys):
+    from navlab.cli import main
+
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
     assert not Path("reprots").exists()
 
 
