@@ -12,8 +12,9 @@ keeps every stored key a lower bound (the triangle inequality of the octile heur
 
 Cost model: that of ``grid_astar`` — a step costs its length times the mean of the two cells' costs per
 metre, ``inf`` blocks a cell — so a D* Lite path and a from-scratch A* path have equal costs. The
-heuristic is the octile distance times the cheapest cost the grid has held since the last restart; a
-change to a cheaper cost than that would make it overestimate, so such a change restarts the search.
+heuristic is the octile distance times the cheapest cost the grid has held since the last restart
+(deflated by 1e-7, see DEFLATE); a change to a cheaper cost than that would make it overestimate, so
+such a change restarts the search.
 
 Bugs of public ports this avoids: oscillating between two cells (the path follows argmin c + g, and g
 strictly decreases along it — a repeated cell raises instead of looping); k_m / operation-order errors
@@ -32,6 +33,12 @@ from numba import njit
 from navlab.search.grid_astar import GridPath, check_cell, check_cost_grid, check_resolution, octile_scale
 
 SQRT2 = math.sqrt(2.0)
+# The heuristic is deflated by this fraction. With equal costs k1 = g + h is the same for every cell of
+# an optimal path, so the termination test "top key < key(s_start)" would be decided by the k2 tie-break
+# inside k1 ties that an ulp of rounding breaks either way; then cells of the start's path can stay
+# inconsistent and the path loops. Deflated, each such cell's k1 lies below the start's by at least
+# DEFLATE x h(s_start, s), far more than the rounding of the key sums, and h stays admissible.
+DEFLATE = 1e-7
 # scalars of the compiled state: k_m, heuristic scale, half a straight step, half a diagonal step (metres)
 _KM, _HSCALE, _HALF, _HALF_DIAG = range(4)
 
@@ -270,7 +277,7 @@ class DStarLite:
         """Initialize() of the paper, with the heuristic scaled to the cheapest current cost."""
         n = self._cost.size
         interior = self._cost.reshape(-1, self._width)[1:-1, 1:-1]
-        self._sc = np.array([0.0, octile_scale(interior, self.resolution),
+        self._sc = np.array([0.0, octile_scale(interior, self.resolution) * (1.0 - DEFLATE),
                              0.5 * self.resolution, 0.5 * SQRT2 * self.resolution])
         self._g, self._rhs = np.full(n, np.inf), np.full(n, np.inf)
         self._key = np.zeros((n, 2))
