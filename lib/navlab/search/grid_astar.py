@@ -23,8 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from navlab.search import heap
-
 SQRT2 = math.sqrt(2.0)
 
 
@@ -71,9 +69,28 @@ def octile_scale(cost: np.ndarray, resolution: float) -> float:
     return float(cost[np.isfinite(cost)].min()) * resolution
 
 
+@njit(cache=True, inline="always")
+def _before(hf, hg, hi, a, b):
+    """Heap order: entry a precedes entry b by (f, g, flat index)."""
+    if hf[a] != hf[b]:
+        return hf[a] < hf[b]
+    if hg[a] != hg[b]:
+        return hg[a] < hg[b]
+    return hi[a] < hi[b]
+
+
+@njit(cache=True, inline="always")
+def _swap(hf, hg, hi, a, b):
+    hf[a], hf[b] = hf[b], hf[a]
+    hg[a], hg[b] = hg[b], hg[a]
+    hi[a], hi[b] = hi[b], hi[a]
+
+
 @njit(cache=True)
 def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, diagonal, h_scale, h_diagonal):
-    """A* over the row-major padded raster (a border of inf cells replaces the bounds checks)."""
+    """A* over the row-major padded raster (a border of inf cells replaces the bounds checks). The open
+    list is a binary heap kept in three parallel arrays (f, g, index): a quarter faster than the generic
+    row-keyed ``search.heap`` that COA* needs, on the benchmark maps."""
     n = flat_cost.size
     steps = np.array([-width, width, -1, 1, -width - 1, -width + 1, width - 1, width + 1])
     halves = np.array([half_straight] * 4 + [half_diagonal] * 4)
@@ -82,22 +99,33 @@ def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, dia
     parent = np.full(n, -1, np.int64)
     closed = np.zeros(n, np.bool_)
     gr, gc = goal_i // width, goal_i % width
-    keys, ids, size = heap.new_heap(1024, 2)
-    key = np.empty(2)
+    capacity = 4096
+    hf, hg, hi = np.empty(capacity), np.empty(capacity), np.empty(capacity, np.int64)
     dr, dc = abs(start_i // width - gr), abs(start_i % width - gc)
     g[start_i] = 0.0
-    key[0], key[1] = (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0
-    keys, ids = heap.push(keys, ids, size, key, start_i)
+    hf[0], hg[0], hi[0] = (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0, start_i
+    size = 1
     expansions = 0
-    while size[0] > 0:
-        i = heap.pop(keys, ids, size, key)
+    while size > 0:
+        i, g_here = hi[0], hg[0]
+        size -= 1
+        hf[0], hg[0], hi[0] = hf[size], hg[size], hi[size]
+        p = 0
+        while 2 * p + 1 < size:  # sift the moved last entry down
+            child = 2 * p + 1
+            if child + 1 < size and _before(hf, hg, hi, child + 1, child):
+                child += 1
+            if not _before(hf, hg, hi, child, p):
+                break
+            _swap(hf, hg, hi, p, child)
+            p = child
         if closed[i]:
             continue
         closed[i] = True
         expansions += 1
         if i == goal_i:
             break
-        g_here, c_here = key[1], flat_cost[i]
+        c_here = flat_cost[i]
         for m in range(n_moves):
             j = i + steps[m]
             c_next = flat_cost[j]
@@ -107,10 +135,24 @@ def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, dia
             if g_next < g[j]:
                 g[j] = g_next
                 parent[j] = i
+                if size == capacity:
+                    capacity *= 2
+                    hf, hg, hi = _grown(hf, size, capacity), _grown(hg, size, capacity), _grown(hi, size, capacity)
                 dr, dc = abs(j // width - gr), abs(j % width - gc)
-                key[0], key[1] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next
-                keys, ids = heap.push(keys, ids, size, key, j)
+                k = size
+                hf[k], hg[k], hi[k] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next, j
+                size += 1
+                while k > 0 and _before(hf, hg, hi, k, (k - 1) >> 1):  # sift the new entry up
+                    _swap(hf, hg, hi, k, (k - 1) >> 1)
+                    k = (k - 1) >> 1
     return g, parent, closed[goal_i], expansions
+
+
+@njit(cache=True)
+def _grown(array, size, capacity):
+    out = np.empty(capacity, array.dtype)
+    out[:size] = array[:size]
+    return out
 
 
 def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
