@@ -30,9 +30,15 @@ import math
 import numpy as np
 from numba import njit
 
-from navlab.search.grid_astar import GridPath, check_cell, check_cost_grid, check_resolution, octile_scale
+from navlab.search.grid_astar import (
+    SQRT2,
+    GridPath,
+    check_cell,
+    check_cost_grid,
+    check_resolution,
+    octile_scale,
+)
 
-SQRT2 = math.sqrt(2.0)
 # The heuristic is deflated by this fraction. With equal costs k1 = g + h is the same for every cell of
 # an optimal path, so the termination test "top key < key(s_start)" would be decided by the k2 tie-break
 # inside k1 ties that an ulp of rounding breaks either way; then cells of the start's path can stay
