@@ -70,89 +70,76 @@ def octile_scale(cost: np.ndarray, resolution: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _before(hf, hg, hi, a, b):
-    """Heap order: entry a precedes entry b by (f, g, flat index)."""
-    if hf[a] != hf[b]:
-        return hf[a] < hf[b]
-    if hg[a] != hg[b]:
-        return hg[a] < hg[b]
-    return hi[a] < hi[b]
-
-
-@njit(cache=True, inline="always")
-def _swap(hf, hg, hi, a, b):
-    hf[a], hf[b] = hf[b], hf[a]
-    hg[a], hg[b] = hg[b], hg[a]
-    hi[a], hi[b] = hi[b], hi[a]
+def _before(f, g, a, b):
+    """Open-list order: cell a precedes cell b by (f, g, flat index)."""
+    if f[a] != f[b]:
+        return f[a] < f[b]
+    if g[a] != g[b]:
+        return g[a] < g[b]
+    return a < b
 
 
 @njit(cache=True)
 def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, diagonal, h_scale, h_diagonal):
-    """A* over the row-major padded raster (a border of inf cells replaces the bounds checks). The open
-    list is a binary heap kept in three parallel arrays (f, g, index): a quarter faster than the generic
-    row-keyed ``search.heap`` that COA* needs, on the benchmark maps."""
+    """A* over the row-major padded raster (a border of inf cells replaces the bounds checks).
+
+    The open list is an indexed binary heap of cells: a cell whose g drops moves up in place instead of
+    being pushed again, so the heap never holds stale entries (3x faster than lazy deletion on the
+    benchmark maps). The cells come out in the same order as from the reference's lazy heapq.
+    """
     n = flat_cost.size
     steps = np.array([-width, width, -1, 1, -width - 1, -width + 1, width - 1, width + 1])
     halves = np.array([half_straight] * 4 + [half_diagonal] * 4)
     n_moves = 8 if diagonal else 4
-    g = np.full(n, np.inf)
+    g, f = np.full(n, np.inf), np.empty(n)
     parent = np.full(n, -1, np.int64)
-    closed = np.zeros(n, np.bool_)
+    pos = np.full(n, -1, np.int32)  # heap slot of an open cell; -1 never opened, -2 closed
+    heap = np.empty(n, np.int32)
     gr, gc = goal_i // width, goal_i % width
-    capacity = 4096
-    hf, hg, hi = np.empty(capacity), np.empty(capacity), np.empty(capacity, np.int64)
     dr, dc = abs(start_i // width - gr), abs(start_i % width - gc)
-    g[start_i] = 0.0
-    hf[0], hg[0], hi[0] = (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0, start_i
-    size = 1
+    g[start_i], f[start_i] = 0.0, (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale
+    heap[0], pos[start_i], size = start_i, 0, 1
     expansions = 0
     while size > 0:
-        i, g_here = hi[0], hg[0]
+        i = heap[0]
+        pos[i] = -2
         size -= 1
-        hf[0], hg[0], hi[0] = hf[size], hg[size], hi[size]
-        p = 0
-        while 2 * p + 1 < size:  # sift the moved last entry down
-            child = 2 * p + 1
-            if child + 1 < size and _before(hf, hg, hi, child + 1, child):
-                child += 1
-            if not _before(hf, hg, hi, child, p):
-                break
-            _swap(hf, hg, hi, p, child)
-            p = child
-        if closed[i]:
-            continue
-        closed[i] = True
+        if size > 0:  # move the last cell to the root and sift it down
+            item, p = heap[size], 0
+            while 2 * p + 1 < size:
+                child = 2 * p + 1
+                if child + 1 < size and _before(f, g, heap[child + 1], heap[child]):
+                    child += 1
+                if not _before(f, g, heap[child], item):
+                    break
+                heap[p] = heap[child]
+                pos[heap[p]] = p
+                p = child
+            heap[p], pos[item] = item, p
         expansions += 1
         if i == goal_i:
             break
-        c_here = flat_cost[i]
+        g_here, c_here = g[i], flat_cost[i]
         for m in range(n_moves):
             j = i + steps[m]
             c_next = flat_cost[j]
-            if c_next == np.inf or closed[j]:
+            if c_next == np.inf or pos[j] == -2:
                 continue
             g_next = g_here + halves[m] * (c_here + c_next)
             if g_next < g[j]:
-                g[j] = g_next
-                parent[j] = i
-                if size == capacity:
-                    capacity *= 2
-                    hf, hg, hi = _grown(hf, size, capacity), _grown(hg, size, capacity), _grown(hi, size, capacity)
+                g[j], parent[j] = g_next, i
                 dr, dc = abs(j // width - gr), abs(j % width - gc)
-                k = size
-                hf[k], hg[k], hi[k] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next, j
-                size += 1
-                while k > 0 and _before(hf, hg, hi, k, (k - 1) >> 1):  # sift the new entry up
-                    _swap(hf, hg, hi, k, (k - 1) >> 1)
+                f[j] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale
+                k = pos[j]
+                if k < 0:  # newly opened: start at the end
+                    k = size
+                    size += 1
+                while k > 0 and _before(f, g, j, heap[(k - 1) >> 1]):  # sift up
+                    heap[k] = heap[(k - 1) >> 1]
+                    pos[heap[k]] = k
                     k = (k - 1) >> 1
-    return g, parent, closed[goal_i], expansions
-
-
-@njit(cache=True)
-def _grown(array, size, capacity):
-    out = np.empty(capacity, array.dtype)
-    out[:size] = array[:size]
-    return out
+                heap[k], pos[j] = j, k
+    return g, parent, pos[goal_i] == -2, expansions
 
 
 def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:

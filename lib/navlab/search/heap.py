@@ -4,7 +4,7 @@ Searches that rank a node by a vector of numbers of any length (COA*'s per-class
 then f, then g) keep their open list here. Each entry is a row of ``keys`` plus an int64 id; entries
 compare by their keys column by column, then by id, so the pop order over any set of pushed entries is
 one fixed total order: the same as Python's ``heapq`` on ``(*keys, id)`` tuples. (Grid A*, whose key is
-always (f, g), keeps a specialised copy in three flat arrays, which is a quarter faster.)
+always (f, g) of a cell, keeps an indexed heap of cells with decrease-key instead.)
 
 The heap is a tuple of arrays ``(keys, ids, size)``, where ``size`` is a one-element int64 array so the
 functions can grow it in place; ``push`` returns the (possibly reallocated) arrays.
