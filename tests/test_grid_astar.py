@@ -1,4 +1,5 @@
-"""Grid A* returns optimal paths: checked against scikit-image's MCP_Geometric (same cost model)."""
+"""Grid A* returns optimal paths: checked against scikit-image's MCP_Geometric (same cost model), and the
+compiled search returns exactly what the plain-Python reference returns (path, cost bits, expansions)."""
 
 import math
 
@@ -8,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from navlab.search.grid_astar import plan
-from navlab.search.grid_reference import dijkstra_cost
+from navlab.search.grid_reference import astar_reference, dijkstra_cost
 
 
 def _path_cost(cost, cells, resolution):
@@ -65,3 +66,32 @@ def test_nan_or_minus_inf_cost_is_an_error(bad):
     cost[2, 2] = bad
     with pytest.raises(ValueError, match=r"NaN or -inf"):
         plan(cost, (0, 0), (4, 4))
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10_000), rows=st.integers(2, 20), cols=st.integers(2, 20),
+       levels=st.sampled_from([1, 2, 0]), diagonal=st.booleans())
+def test_compiled_search_equals_plain_reference(seed, rows, cols, levels, diagonal):
+    """Few cost levels make many equal-cost ties: the tie-breaking must match too (datasets depend on it)."""
+    rng = np.random.default_rng(seed)
+    cost = rng.integers(1, levels + 1, (rows, cols)).astype(float) if levels else rng.uniform(1.0, 3.0, (rows, cols))
+    cost[rng.random((rows, cols)) < 0.25] = np.inf
+    start, goal = (0, 0), (rows - 1, cols - 1)
+    cost[start] = cost[goal] = 1.0
+    ours = plan(cost, start, goal, diagonal=diagonal, resolution=0.7)
+    reference = astar_reference(cost, start, goal, diagonal=diagonal, resolution=0.7)
+    assert ours.cost == reference.cost and ours.expansions == reference.expansions
+    assert (ours.cells is None) == (reference.cells is None)
+    if ours.cells is not None:
+        np.testing.assert_array_equal(ours.cells, reference.cells)
+
+
+@pytest.mark.parametrize("resolution", [0.0, -1.0, np.nan, np.inf])
+def test_bad_resolution_is_an_error(resolution):
+    with pytest.raises(ValueError, match="resolution must be a positive"):
+        plan(np.ones((3, 3)), (0, 0), (2, 2), resolution=resolution)
+
+
+def test_start_equals_goal_is_a_one_cell_path():
+    path = plan(np.ones((3, 3)), (1, 1), (1, 1))
+    assert path.cost == 0.0 and path.cells.tolist() == [[1, 1]]

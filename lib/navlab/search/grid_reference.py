@@ -1,14 +1,31 @@
-"""Reference optimal path costs on a cost grid, from scikit-image's MCP_Geometric (Cython Dijkstra).
+"""Reference solvers on a cost grid, against which the compiled grid searches are checked.
 
-It uses the same cost model as ``grid_astar`` (step length times the mean cost of the two cells), so
-it serves as the independent solver that A* results are checked against in tests, notebooks and
-benchmarks.
+``dijkstra_cost`` is scikit-image's MCP_Geometric (Cython Dijkstra) under the same cost model as
+``grid_astar`` (step length times the mean cost of the two cells): the independent solver that A*
+results are checked against in tests, notebooks and benchmarks. ``astar_reference`` is the same A* as
+``grid_astar.plan`` written as plain Python with ``heapq`` (Hart, Nilsson and Raphael 1968): the tests
+require the compiled search to return its path, cost and expansion count exactly.
 """
 
 from __future__ import annotations
 
+import heapq
+import math
+
 import numpy as np
 from skimage.graph import MCP_Geometric
+
+from navlab.search.grid_astar import (
+    SQRT2,
+    GridPath,
+    check_cell,
+    check_cost_grid,
+    check_resolution,
+    octile_scale,
+)
+
+_STRAIGHT = ((-1, 0), (1, 0), (0, -1), (0, 1))
+_DIAGONAL = ((-1, -1), (-1, 1), (1, -1), (1, 1))
 
 
 def dijkstra_cost(cost: np.ndarray, start, goal, *, resolution: float = 1.0) -> float:
@@ -16,3 +33,58 @@ def dijkstra_cost(cost: np.ndarray, start, goal, *, resolution: float = 1.0) -> 
     blocked_as_negative = np.where(np.isfinite(cost), cost, -1.0)  # MCP: negative = impassable
     cumulative, _ = MCP_Geometric(blocked_as_negative, fully_connected=True).find_costs([tuple(start)], [tuple(goal)])
     return float(cumulative[tuple(goal)]) * resolution
+
+
+def astar_reference(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
+    """``grid_astar.plan`` in plain Python: heap entries (f, g, flat index), lazy deletion."""
+    cost = check_cost_grid(cost)
+    resolution = check_resolution(resolution)
+    start, goal = check_cell("start", start, cost), check_cell("goal", goal, cost)
+    rows, cols = cost.shape
+    width = cols + 2
+    padded = np.full((rows + 2, width), np.inf)
+    padded[1:-1, 1:-1] = cost
+    flat_cost = padded.ravel().tolist()
+    moves = [(dr * width + dc, resolution * 0.5) for dr, dc in _STRAIGHT]
+    if diagonal:
+        moves += [(dr * width + dc, resolution * 0.5 * SQRT2) for dr, dc in _DIAGONAL]
+    h_scale = octile_scale(cost, resolution)
+    h_diagonal = SQRT2 - 1.0 if diagonal else 1.0
+    gr, gc = goal[0] + 1, goal[1] + 1
+    start_i, goal_i = (start[0] + 1) * width + start[1] + 1, gr * width + gc
+    inf = math.inf
+    g = [inf] * len(flat_cost)
+    parent = [-1] * len(flat_cost)
+    closed = bytearray(len(flat_cost))
+    g[start_i] = 0.0
+    dr, dc = abs(start[0] + 1 - gr), abs(start[1] + 1 - gc)
+    frontier = [((max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0, start_i)]
+    expansions = 0
+    while frontier:
+        _, g_here, i = heapq.heappop(frontier)
+        if closed[i]:
+            continue
+        closed[i] = 1
+        expansions += 1
+        if i == goal_i:
+            break
+        c_here = flat_cost[i]
+        for step, half_step in moves:
+            j = i + step
+            c_next = flat_cost[j]
+            if c_next == inf or closed[j]:
+                continue
+            g_next = g_here + half_step * (c_here + c_next)
+            if g_next < g[j]:
+                g[j] = g_next
+                parent[j] = i
+                r, c = divmod(j, width)
+                dr, dc = abs(r - gr), abs(c - gc)
+                heapq.heappush(frontier, (g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next, j))
+    if not closed[goal_i]:
+        return GridPath(None, inf, expansions)
+    chain = [goal_i]
+    while parent[chain[-1]] != -1:
+        chain.append(parent[chain[-1]])
+    cells = np.array([divmod(i, width) for i in reversed(chain)], dtype=np.int64) - 1
+    return GridPath(cells, g[goal_i], expansions)
