@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from navlab.core.params.fields import between
+from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_graph import GraphParams
 
 
@@ -12,3 +13,4 @@ from navlab.core.params.surenav_graph import GraphParams
 class SuReNavParams:
     seed: int = between(0)
     graph: GraphParams
+    benchmark: BenchmarkParams
