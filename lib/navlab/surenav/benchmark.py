@@ -181,3 +181,35 @@ def table1_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> 
 def null_rows(method: str, keys: list[dict], columns) -> list[dict]:
     """Rows of a method that was not run: every metric null (the reason goes in the notes)."""
     return [{**k, "method": method, **{c: None for c in columns}} for k in keys]
+
+
+TABLE1_COLUMNS = ["method", "environments", "frechet", "frechet_ci", "relaxation_iou", "relaxation_iou_ci", "sr"]
+FIG4_COLUMNS = ["method", "city", "episodes", "sr", "sr_ci", "spl", "spl_ci", "total_risk", "total_risk_ci",
+                "path_length_m", "path_length_m_ci"]
+
+
+def replan_note(outcomes: list[Outcome], methods) -> str:
+    """Per-re-plan wall time per method: median and 95th percentile, and re-plans per episode."""
+    parts = []
+    for m in methods:
+        t = replan_seconds(outcomes, m)
+        if len(t):
+            episodes = sum(o.method == m for o in outcomes)
+            parts.append(f"{m} {1e3 * np.median(t):.1f} ms median / {1e3 * np.quantile(t, 0.95):.1f} ms p95 "
+                         f"({len(t) / episodes:.1f} re-plans per episode)")
+    return "Per re-plan time (2-core CPU): " + "; ".join(parts) + "."
+
+
+
+def most_contrasting(outcomes: list[Outcome]) -> dict[str, str]:
+    """Per group (city), the environment whose methods' path lengths differ most (relative spread):
+    the episode Fig. 5 shows, chosen by a rule rather than by eye."""
+    best: dict[str, tuple[float, str]] = {}
+    for env in dict.fromkeys(o.environment for o in outcomes):
+        mine = [o for o in outcomes if o.environment == env]
+        lengths = np.array([o.length_m for o in mine])
+        spread = float((lengths.max() - lengths.min()) / max(lengths.min(), 1e-9))
+        group = mine[0].group
+        if group not in best or spread > best[group][0]:
+            best[group] = (spread, env)
+    return {g: env for g, (_, env) in best.items()}
