@@ -19,7 +19,7 @@ from synthetic_city import L, city
 GRAPH = GraphParams(target_nodes=120, compactness=1.0, tau_m=1.0)
 WALK = ExecutorParams(sensor_radius_m=8.0, step_m=3.0, max_steps=300, window_margin_m=20.0)
 COSTS = np.array([0.1, 0.15, 0.6, 0.4, 0.3, 0.5, 1.0, np.inf, np.inf])  # per label id, as demo_priors gives
-ORDER = np.array([0, 1, 4, 5, 3, 2, 6])
+ORDER = np.array([6, 2, 3, 5, 4, 1])  # soft labels, most critical first
 RISK = {"crosswalk": 0.1, "road": 0.9, "living_street": 0.4, "parking": 0.3, "grass": 0.5, "rough_terrain": 0.8}
 START, GOAL = (5, 6), (114, 110)  # sidewalks in opposite corners of the town
 

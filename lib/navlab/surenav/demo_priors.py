@@ -4,7 +4,8 @@
   with 0-1 scaling". The proportion of label l is the share of label-l superpixels that some
   demonstration passes through; its reciprocal is min-max scaled over the walkable labels and lifted
   onto [floor, 1], because a planner needs positive costs (a label no demonstration touched costs 1).
-- COA*'s class order: labels ranked by the same traversal rate, most traversed = least critical.
+- COA*'s class order: the soft labels ranked by the same traversal rate, least traversed = most
+  critical (counted first); free labels are not counted at all.
 
 Only TRAINING demonstrations are read (never validation or test ones): ``load_training_traversal``
 opens the train split alone, and ``label_traversal`` refuses maps of any other split.
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from navlab.core.labels import HARD_IDS, LABELS, NUM_LABELS
+from navlab.core.labels import HARD_IDS, NUM_LABELS, SOFT_IDS
 from navlab.maps.dataset import load_maps
 from navlab.maps.semantic_map import SemanticMap
 from navlab.surenav.experts.hand_noise import dense_cells
@@ -91,7 +92,6 @@ def dstar_label_costs(traversal: LabelTraversal, floor: float) -> np.ndarray:
 
 
 def class_order(traversal: LabelTraversal) -> np.ndarray:
-    """Walkable label ids, least critical first: by traversal rate, highest first (ties: by label id)."""
-    walkable = np.array([lab.id for lab in LABELS if lab.constraint != "hard"])
-    rate = traversal.rate[walkable]
-    return walkable[np.lexsort((walkable, -rate))]
+    """Soft label ids, most critical first: by traversal rate, lowest first (ties: by label id)."""
+    rate = traversal.rate[SOFT_IDS]
+    return SOFT_IDS[np.lexsort((SOFT_IDS, rate))]

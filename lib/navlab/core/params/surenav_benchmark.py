@@ -44,4 +44,5 @@ class BenchmarkParams:
     dstar_cost_floor: float = between(0.0, 1.0)  # D* Lite: the 0-1 scaled label cost is lifted onto [floor, 1]
     rcr: RCRParams
     bootstrap_samples: int = between(1)  # resamples of environments for each 95% interval
+    workers: int = between(1)  # processes running episodes side by side (the outcomes do not depend on it)
     behaviour_candidates: int = between(1)  # Fig. 5: first episodes per city among which the shown one is picked
