@@ -38,8 +38,8 @@ BASELINES = ("D* Lite", "COA*", "RCR")
 EXPERT = "Expert (reference)"
 SURENAV = "SuReNav"
 NOT_RUN = {
-    SURENAV: "SuReNav (the learned relaxation-cost estimator) is issue 10 and not plugged in yet: its rows are null",
-    "ViPlanner^OSRM": "ViPlanner needs a photoreal 3D simulator and a vision model: out of scope, not run",
+    SURENAV: "SuReNav (the learned relaxation-cost estimator) is issue 10 and not plugged in yet: its rows are null.",
+    "ViPlanner^OSRM": "ViPlanner needs a photoreal 3D simulator and a vision model: out of scope, not run.",
 }
 
 
@@ -151,7 +151,7 @@ def run_all(envs: list[Environment], methods, learned: Learned, settings: Benchm
 
 def _mean_ci(values, settings: BenchmarkParams, *key) -> tuple[float, list[float]]:
     lo, hi = bootstrap_mean_ci(values, rng(settings.seed, "bootstrap", *key), settings.bootstrap_samples)
-    return float(np.mean(values)), [lo, hi]
+    return float(np.mean(values)), [round(lo, 4), round(hi, 4)]
 
 
 def replan_seconds(outcomes: list[Outcome], method: str) -> np.ndarray:
@@ -168,7 +168,7 @@ def fig4_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> li
                 continue
             wins = sum(o.success for o in mine)
             row = {"method": method, "city": city, "episodes": len(mine), "sr": wins / len(mine),
-                   "sr_ci": list(wilson_ci(wins, len(mine)))}
+                   "sr_ci": [round(v, 4) for v in wilson_ci(wins, len(mine))]}
             for col, values in (("spl", [o.spl for o in mine]), ("total_risk", [o.total_risk for o in mine]),
                                 ("path_length_m", [o.length_m for o in mine])):
                 row[col], row[f"{col}_ci"] = _mean_ci(values, settings, "fig4", method, city, col)
