@@ -12,10 +12,20 @@ from navlab.maps.dataset import load_maps
 from navlab.surenav import paper
 from navlab.surenav.benchmark import EXPERT, Learned, fig4_rows, run_all, table1_rows
 from navlab.surenav.demo_priors import (
-    LabelTraversal, class_order, dstar_label_costs, label_traversal, load_training_traversal,
+    LabelTraversal,
+    class_order,
+    dstar_label_costs,
+    label_traversal,
+    load_training_traversal,
 )
 from navlab.surenav.episodes import (
-    CITIES, build_episodes, connected, human_likeness_environments, load_city_episodes, safety_efficiency_environments, window,
+    CITIES,
+    build_episodes,
+    connected,
+    human_likeness_environments,
+    load_city_episodes,
+    safety_efficiency_environments,
+    window,
 )
 from navlab.surenav.experts.store import load_demos
 
@@ -88,7 +98,7 @@ def smoke_outcomes(smoke_data, episodes_dir, smoke_params):
     methods = ["D* Lite", "COA*", "RCR", EXPERT]
     se = safety_efficiency_environments(smoke_data, episodes_dir)[::3]
     hl = human_likeness_environments(smoke_data)[:2]
-    run = dict(learned=learned, settings=settings, graph=smoke_params.surenav.graph, progress=False)
+    run = {"learned": learned, "settings": settings, "graph": smoke_params.surenav.graph, "progress": False}
     return methods, run_all(se, methods, **run), run_all(hl, methods, data_dir=smoke_data, **run)
 
 

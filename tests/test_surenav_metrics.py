@@ -9,7 +9,14 @@ import similaritymeasures
 from navlab.core.labels import HARD_IDS
 from navlab.metrics.frechet import discrete_frechet, discrete_frechet_reference, normalised_frechet
 from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
-from navlab.metrics.navigation import path_length, risk_table, shortest_feasible_length, spl, success, total_risk
+from navlab.metrics.navigation import (
+    path_length,
+    risk_table,
+    shortest_feasible_length,
+    spl,
+    success,
+    total_risk,
+)
 from navlab.metrics.relaxation import relaxed_regions, set_iou
 from navlab.search.grid_astar import plan
 from synthetic_city import L, city

@@ -23,7 +23,14 @@ from navlab.core.seeding import rng
 from navlab.graphs.incremental import resegment
 from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
-from navlab.metrics.navigation import path_length, risk_table, shortest_feasible_length, spl, success, total_risk
+from navlab.metrics.navigation import (
+    path_length,
+    risk_table,
+    shortest_feasible_length,
+    spl,
+    success,
+    total_risk,
+)
 from navlab.metrics.relaxation import relaxed_regions, set_iou
 from navlab.sim.semi_static import Policy, execute
 from navlab.surenav.baselines import DStarLitePolicy, ExpertPolicy, RCRPolicy
@@ -142,7 +149,7 @@ def run_all(envs: list[Environment], methods, learned: Learned, settings: Benchm
     for env in envs:
         superpixels = reference_superpixels(env, graph, stored[env.group]) if env.demonstration is not None else None
         tasks += [(env, method, learned, settings, graph, superpixels) for method in methods]
-    bar = dict(total=len(tasks), desc="episodes x methods", unit="run", disable=not progress)
+    bar = {"total": len(tasks), "desc": "episodes x methods", "unit": "run", "disable": not progress}
     if settings.workers == 1:
         return [_run_one(t) for t in tqdm(tasks, **bar)]
     with ProcessPoolExecutor(settings.workers, mp_context=get_context("fork")) as pool:

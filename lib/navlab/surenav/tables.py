@@ -11,7 +11,16 @@ from dataclasses import dataclass
 from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.surenav import paper
 from navlab.surenav.benchmark import (
-    EXPERT, FIG4_COLUMNS, NOT_RUN, SURENAV, TABLE1_COLUMNS, Outcome, fig4_rows, null_rows, replan_note, table1_rows,
+    EXPERT,
+    FIG4_COLUMNS,
+    NOT_RUN,
+    SURENAV,
+    TABLE1_COLUMNS,
+    Outcome,
+    fig4_rows,
+    null_rows,
+    replan_note,
+    table1_rows,
 )
 
 _INTERVALS = ("95% intervals: percentile bootstrap over environments for means ({n} resamples), Wilson for "
@@ -41,11 +50,11 @@ def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table
     claims = paper.table1_claims(rows)
     groups = len({o.group for o in outcomes})
     notes = " ".join([
-        f"{len({o.environment for o in outcomes})} semi-static test environments on {groups} held-out real tiles "
-        "with synthetic-expert demonstrations (the paper: 100 from 5 cities, human demonstrations).",
+        (f"{len({o.environment for o in outcomes})} semi-static test environments on {groups} held-out real tiles "
+         "with synthetic-expert demonstrations (the paper: 100 from 5 cities, human demonstrations)."),
         "Fréchet: discrete, normalised by the start-goal distance, over every episode's executed trajectory.",
-        "Relaxation IoU on superpixels of the demonstration's own region graph (one fixed partition for every "
-        "method; cell sets of one-cell-wide paths barely overlap).",
+        ("Relaxation IoU on superpixels of the demonstration's own region graph (one fixed partition for every "
+         "method; cell sets of one-cell-wide paths barely overlap)."),
         f"{EXPERT}: the synthetic expert's planner run through the same executor (a ceiling, not a baseline).",
         _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
         "Claims: " + " | ".join(c.line() for c in claims),
@@ -62,13 +71,13 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
         rows += null_rows(SURENAV, [{"city": c} for c in cities], [c for c in FIG4_COLUMNS if c not in ("method", "city")])
     claims = paper.fig4_claims(rows)
     notes = " ".join([
-        f"{len({o.environment for o in outcomes})} episodes on {len(cities)} held-out real tiles standing in for "
-        "Milan, Baltimore and Capitol Hill (see data/surenav/maps/index.json roles); perturbations along OSRM "
-        "routes aggregated per map; each method plans on the original map and walks the modified one "
-        f"(sensor {settings.executor.sensor_radius_m:g} m, step {settings.executor.step_m:g} m).",
-        "The paper prints Fig. 4 as a scatter: its SPL and risk values are not numbers we can copy, only the "
-        "SR stated in the text. Total risk integrates our fixed per-label unit risks (params.yaml "
-        "surenav.benchmark.unit_risk) along the path; the paper's are mean 0-1 scores of three language models.",
+        (f"{len({o.environment for o in outcomes})} episodes on {len(cities)} held-out real tiles standing in for "
+         "Milan, Baltimore and Capitol Hill (see data/surenav/maps/index.json roles); perturbations along OSRM "
+         "routes aggregated per map; each method plans on the original map and walks the modified one "
+         f"(sensor {settings.executor.sensor_radius_m:g} m, step {settings.executor.step_m:g} m)."),
+        ("The paper prints Fig. 4 as a scatter: its SPL and risk values are not numbers we can copy, only the "
+         "SR stated in the text. Total risk integrates our fixed per-label unit risks (params.yaml "
+         "surenav.benchmark.unit_risk) along the path; the paper's are mean 0-1 scores of three language models."),
         f"{EXPERT}: the synthetic expert's planner through the same executor (a reference, not a baseline).",
         _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
         "Claims: " + " | ".join(c.line() for c in claims),

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from navlab.core.labels import HARD_IDS
 from navlab.graphs.region_graph import RegionGraph
 from navlab.maps.semantic_map import SemanticMap
-from navlab.core.labels import HARD_IDS
 from navlab.search.coa_star import coa_star_grid
 
 
