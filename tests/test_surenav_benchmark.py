@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -153,3 +154,15 @@ def test_dstar_costs_of_the_smoke_data_are_finite_on_walkable_labels(smoke_data,
     walkable = ~np.isin(np.arange(NUM_LABELS), HARD_IDS)
     assert np.isfinite(learned.dstar_costs[walkable]).all() and (learned.dstar_costs[walkable] > 0).all()
     assert learned.dstar_costs[label_id("sidewalk")] == pytest.approx(smoke_params.surenav.benchmark.dstar_cost_floor)
+
+
+def test_workers_do_not_change_outcomes(smoke_data, episodes_dir, smoke_params):
+    settings = smoke_params.surenav.benchmark
+    learned = Learned.from_training(smoke_data, settings)
+    envs = safety_efficiency_environments(smoke_data, episodes_dir)[:2]
+    run = {"learned": learned, "graph": smoke_params.surenav.graph, "progress": False}
+    one = run_all(envs, ["RCR", EXPERT], settings=settings, **run)
+    two = run_all(envs, ["RCR", EXPERT], settings=replace(settings, workers=2), **run)
+    assert [(o.method, o.environment) for o in one] == [(o.method, o.environment) for o in two]
+    for a, b in zip(one, two, strict=True):
+        assert np.array_equal(a.trajectory, b.trajectory) and a.total_risk == b.total_risk
