@@ -10,8 +10,13 @@ from navlab.core.params.surenav_benchmark import ExecutorParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.search.grid_astar import plan
 from navlab.sim.semi_static import execute
-from navlab.surenav.baselines import CostFieldPolicy, DStarLitePolicy, ExpertPolicy, RCRPolicy
-from navlab.surenav.baselines.coa_star import ClassOrderedPolicy
+from navlab.surenav.baselines import (
+    ClassOrderedPolicy,
+    CostFieldPolicy,
+    DStarLitePolicy,
+    ExpertPolicy,
+    RCRPolicy,
+)
 from navlab.surenav.baselines.rcr import risk_table
 from navlab.surenav.experts.personas import PERSONAS
 from synthetic_city import L, city

@@ -33,8 +33,7 @@ from navlab.metrics.navigation import (
 )
 from navlab.metrics.relaxation import relaxed_regions, set_iou
 from navlab.sim.semi_static import Policy, execute
-from navlab.surenav.baselines import DStarLitePolicy, ExpertPolicy, RCRPolicy
-from navlab.surenav.baselines.coa_star import ClassOrderedPolicy
+from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, ExpertPolicy, RCRPolicy
 from navlab.surenav.baselines.rcr import risk_table as rcr_risk_table
 from navlab.surenav.demo_priors import class_order, dstar_label_costs, load_training_traversal
 from navlab.surenav.episodes import Environment, window
