@@ -24,6 +24,18 @@ class SemanticMap:
         if self.labels.size and int(self.labels.max()) >= NUM_LABELS:
             raise ValueError(f"{self.name}: label id {int(self.labels.max())} is not in core.labels")
 
+    def crop(self, rows: slice, cols: slice, labels: np.ndarray | None = None) -> SemanticMap:
+        """The map inside the box ``[rows, cols]`` (cell slices with explicit bounds) in the same world
+        coordinates; ``labels`` (same shape as this map) replaces the label raster, e.g. a perturbed one."""
+        r0, r1, c0, c1 = rows.start, rows.stop, cols.start, cols.stop
+        if not (0 <= r0 < r1 <= self.frame.shape[0] and 0 <= c0 < c1 <= self.frame.shape[1]):
+            raise ValueError(f"{self.name}: crop rows {r0}:{r1}, cols {c0}:{c1} is empty or leaves the "
+                             f"{self.frame.shape} map")
+        source = self.labels if labels is None else labels
+        res = self.frame.resolution
+        frame = RasterFrame((r1 - r0, c1 - c0), res, (self.frame.origin[0] + c0 * res, self.frame.origin[1] + r0 * res))
+        return SemanticMap(self.name, np.ascontiguousarray(source[r0:r1, c0:c1]), frame)
+
     def save(self, path: str | Path) -> None:
         save_npz(path, {
             "labels": self.labels.astype(np.uint8),

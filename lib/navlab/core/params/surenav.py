@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_graph import GraphParams
 
 
 @dataclass(frozen=True)
 class SuReNavParams:
     graph: GraphParams
+    benchmark: BenchmarkParams

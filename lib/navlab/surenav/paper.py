@@ -1,0 +1,120 @@
+"""SuReNav's printed results and the claims of its Sec. VII, checked against our rows.
+
+Table I is printed as numbers; Fig. 4 is a scatter without printed values, so of it only the success
+rates stated in the text are numbers here ("all methods achieve 100% SR except ViPlanner, which
+records 51%"); the SPL and risk claims are checked as the orderings and ratios the text states.
+A claim that needs a method we did not run is undecided (``holds = None``), never guessed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+CITIES = ("milan", "baltimore", "capitol_hill")
+
+TABLE1 = (
+    {"method": "D* Lite", "frechet": 0.429, "relaxation_iou": 0.223},
+    {"method": "COA*", "frechet": 0.701, "relaxation_iou": 0.271},
+    {"method": "RCR", "frechet": 0.626, "relaxation_iou": 0.259},
+    {"method": "SuReNav", "frechet": 0.334, "relaxation_iou": 0.416},
+)
+
+FIG4_SR = (
+    *({"method": m, "city": c, "sr": 1.0} for m in ("D* Lite", "COA*", "RCR", "SuReNav") for c in CITIES),
+    {"method": "ViPlanner^OSRM", "city": "all", "sr": 0.51},
+)
+
+ROUGHLY_TWICE = (1.5, 3.0)  # "roughly twice the Total Risk"
+ABOUT_HALF_LONGER = (1.25, 1.75)  # "about 50% longer"
+
+
+@dataclass(frozen=True)
+class Claim:
+    text: str  # the paper's claim
+    holds: bool | None  # None: a method it needs was not run
+    evidence: str  # our numbers behind the verdict
+
+    def line(self) -> str:
+        verdict = {True: "holds", False: "does not hold", None: "undecided"}[self.holds]
+        return f"{self.text}: {verdict} ({self.evidence})"
+
+
+def _value(rows: list[dict], method: str, city: str | None, column: str) -> float | None:
+    for r in rows:
+        if r["method"] == method and (city is None or r.get("city") == city):
+            return r.get(column)
+    return None
+
+
+def _ran(rows: list[dict], method: str) -> bool:
+    return any(r["method"] == method and r.get("sr") is not None for r in rows)
+
+
+def fig4_claims(rows: list[dict], baselines=("D* Lite", "COA*", "RCR"), surenav: str = "SuReNav") -> list[Claim]:
+    """The Fig. 4 claims, per city, on our fig4 rows (method, city, sr, spl, total_risk, path_length_m)."""
+    cities = [c for c in CITIES if any(r.get("city") == c for r in rows)]
+    methods = [m for m in (*baselines, surenav) if _ran(rows, m)]
+    claims = []
+
+    spl = {c: {m: _value(rows, m, c, "spl") for m in methods} for c in cities}
+    best = {c: max(spl[c], key=spl[c].get) for c in cities}
+    claims.append(Claim("D* Lite attains the highest SPL", all(best[c] == "D* Lite" for c in cities),
+                        "; ".join(f"{c}: best {best[c]} ({spl[c][best[c]]:.3f}), D* Lite {spl[c]['D* Lite']:.3f}"
+                                  for c in cities)))
+
+    risk = {c: {m: _value(rows, m, c, "total_risk") for m in methods} for c in cities}
+    if surenav in methods:
+        ratio = {c: risk[c]["D* Lite"] / max(risk[c][surenav], 1e-12) for c in cities}
+        holds = all(ROUGHLY_TWICE[0] <= r <= ROUGHLY_TWICE[1] for r in ratio.values())
+        evidence = "; ".join(f"{c}: x{r:.2f}" for c, r in ratio.items())
+    else:
+        holds = None
+        evidence = f"{surenav} not run; D* Lite / lowest-risk baseline: " + "; ".join(
+            f"{c}: x{risk[c]['D* Lite'] / max(min(risk[c].values()), 1e-12):.2f}" for c in cities)
+    claims.append(Claim(f"D* Lite has roughly twice {surenav}'s total risk", holds, evidence))
+
+    length = {c: {m: _value(rows, m, c, "path_length_m") for m in methods} for c in cities}
+    longest = {c: max(length[c], key=length[c].get) for c in cities}
+    claims.append(Claim("COA* is the most conservative: the longest paths", all(longest[c] == "COA*" for c in cities),
+                        "; ".join(f"{c}: longest {longest[c]} ({length[c][longest[c]]:.0f} m)" for c in cities)))
+    if surenav in methods:
+        ratio = {c: length[c]["COA*"] / max(length[c][surenav], 1e-12) for c in cities}
+        holds = all(ABOUT_HALF_LONGER[0] <= r <= ABOUT_HALF_LONGER[1] for r in ratio.values())
+        evidence = "; ".join(f"{c}: x{r:.2f}" for c, r in ratio.items())
+    else:
+        holds, evidence = None, f"{surenav} not run"
+    claims.append(Claim(f"COA*'s paths are about 50% longer than {surenav}'s", holds, evidence))
+
+    sr = {(m, c): _value(rows, m, c, "sr") for m in methods for c in cities}
+    claims.append(Claim("all methods reach 100% SR", all(v == 1.0 for v in sr.values()),
+                        "lowest: " + min((f"{m}/{c} {v:.2f}" for (m, c), v in sr.items()),
+                                         key=lambda s: float(s.rsplit(" ", 1)[1]))))
+    return claims
+
+
+def table1_claims(rows: list[dict], baselines=("D* Lite", "COA*", "RCR"), surenav: str = "SuReNav") -> list[Claim]:
+    """The Table I claims on our table1 rows (method, frechet, relaxation_iou)."""
+    ran = [m for m in (*baselines, surenav) if any(r["method"] == m and r.get("frechet") is not None for r in rows)]
+    frechet = {m: _value(rows, m, None, "frechet") for m in ran}
+    iou = {m: _value(rows, m, None, "relaxation_iou") for m in ran}
+    claims = []
+    paper_frechet = [r["method"] for r in sorted(TABLE1[:3], key=lambda r: r["frechet"])]
+    ours = [m for m in sorted(baselines, key=lambda m: frechet.get(m, np.inf)) if m in frechet]
+    claims.append(Claim(f"baselines by Fréchet distance, best first: {' < '.join(paper_frechet)}",
+                        ours == paper_frechet if len(ours) == 3 else None,
+                        "ours: " + " < ".join(f"{m} {frechet[m]:.3f}" for m in ours)))
+    paper_iou = [r["method"] for r in sorted(TABLE1[:3], key=lambda r: -r["relaxation_iou"])]
+    ours = [m for m in sorted(baselines, key=lambda m: -iou.get(m, -np.inf)) if m in iou]
+    claims.append(Claim(f"baselines by relaxation IoU, best first: {' > '.join(paper_iou)}",
+                        ours == paper_iou if len(ours) == 3 else None,
+                        "ours: " + " > ".join(f"{m} {iou[m]:.3f}" for m in ours)))
+    if surenav in ran:
+        best_f, best_i = min(frechet, key=frechet.get), max(iou, key=iou.get)
+        claims.append(Claim(f"{surenav} has the lowest Fréchet distance and the highest relaxation IoU",
+                            best_f == surenav and best_i == surenav, f"best Fréchet {best_f}, best IoU {best_i}"))
+    else:
+        claims.append(Claim(f"{surenav} has the lowest Fréchet distance and the highest relaxation IoU", None,
+                            f"{surenav} not run"))
+    return claims

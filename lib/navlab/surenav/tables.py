@@ -1,0 +1,87 @@
+"""Table I and Fig. 4 of SuReNav as report tables: our rows, the paper's, the notes and the claim verdicts.
+
+The notebooks only run the benchmark and hand the outcomes here; what is printed beside what, which
+methods are null and why, and which of the paper's claims hold are decided in this module.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from navlab.core.params.surenav_benchmark import BenchmarkParams
+from navlab.surenav import paper
+from navlab.surenav.benchmark import (
+    EXPERT,
+    FIG4_COLUMNS,
+    NOT_RUN,
+    SURENAV,
+    TABLE1_COLUMNS,
+    Outcome,
+    fig4_rows,
+    null_rows,
+    replan_note,
+    table1_rows,
+)
+
+_INTERVALS = ("95% intervals: percentile bootstrap over environments for means ({n} resamples), Wilson for "
+              "success rates.")
+
+
+@dataclass(frozen=True)
+class Table:
+    table_id: str
+    paper_ref: str
+    columns: list[str]
+    rows: list[dict]
+    paper_rows: list[dict]
+    notes: str
+    claims: list[paper.Claim]
+
+
+def _missing(methods) -> str:
+    return " ".join(reason for m, reason in NOT_RUN.items() if m not in methods)
+
+
+def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
+    """Table I: normalised Fréchet distance and relaxation IoU against the semi-static test demonstrations."""
+    rows = table1_rows(outcomes, methods, settings)
+    if SURENAV not in methods:
+        rows += null_rows(SURENAV, [{}], [c for c in TABLE1_COLUMNS if c != "method"])
+    claims = paper.table1_claims(rows)
+    groups = len({o.group for o in outcomes})
+    notes = " ".join([
+        (f"{len({o.environment for o in outcomes})} semi-static test environments on {groups} held-out real tiles "
+         "with synthetic-expert demonstrations (the paper: 100 from 5 cities, human demonstrations)."),
+        "Fréchet: discrete, normalised by the start-goal distance, over every episode's executed trajectory.",
+        ("Relaxation IoU on superpixels of the demonstration's own region graph (one fixed partition for every "
+         "method; cell sets of one-cell-wide paths barely overlap)."),
+        f"{EXPERT}: the synthetic expert's planner run through the same executor (a ceiling, not a baseline).",
+        _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
+        "Claims: " + " | ".join(c.line() for c in claims),
+    ])
+    return Table("table1_human_likeness", "SuReNav Table I", TABLE1_COLUMNS, rows,
+                 [dict(r) for r in paper.TABLE1], notes, claims)
+
+
+def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
+    """Fig. 4: SR, SPL and total risk per method and city on the safety-efficiency episodes."""
+    rows = fig4_rows(outcomes, methods, settings)
+    cities = list(dict.fromkeys(o.group for o in outcomes))
+    if SURENAV not in methods:
+        rows += null_rows(SURENAV, [{"city": c} for c in cities], [c for c in FIG4_COLUMNS if c not in ("method", "city")])
+    claims = paper.fig4_claims(rows)
+    notes = " ".join([
+        (f"{len({o.environment for o in outcomes})} episodes on {len(cities)} held-out real tiles standing in for "
+         "Milan, Baltimore and Capitol Hill (see data/surenav/maps/index.json roles); perturbations along OSRM "
+         "routes aggregated per map; each method plans on the original map and walks the modified one "
+         f"(sensor {settings.executor.sensor_radius_m:g} m, step {settings.executor.step_m:g} m)."),
+        ("The paper prints Fig. 4 as a scatter: its SPL and risk values are not numbers we can copy, only the "
+         "SR stated in the text. Total risk integrates our fixed per-label unit risks (params.yaml "
+         "surenav.benchmark.unit_risk) along the path; the paper's are mean 0-1 scores of three language models."),
+        f"{EXPERT}: the synthetic expert's planner through the same executor (a reference, not a baseline).",
+        _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
+        "Claims: " + " | ".join(c.line() for c in claims),
+    ])
+    return Table("fig4_safety_efficiency", "SuReNav Fig. 4", FIG4_COLUMNS, rows,
+                 [dict(r) for r in paper.FIG4_SR], notes, claims)
+
