@@ -6,9 +6,13 @@ from dataclasses import dataclass
 
 from navlab.core.params.fields import between
 from navlab.core.params.surenav_graph import GraphParams
+from navlab.core.params.surenav_model import EstimatorParams, PlannerParams, TrainParams
 
 
 @dataclass(frozen=True)
 class SuReNavParams:
     seed: int = between(0)
     graph: GraphParams
+    model: EstimatorParams
+    train: TrainParams
+    planner: PlannerParams
