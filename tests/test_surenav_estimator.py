@@ -94,7 +94,7 @@ def test_gated_gcn_equals_the_bresson_laurent_formula():
     ei = torch.tensor([[0, 1, 2, 3, 4, 0, 2], [1, 0, 1, 2, 3, 3, 4]])  # src -> dst
     with torch.no_grad():
         out, e_out = layer(x, ei, e), layer.edge_out
-        bn = lambda m, v: (v - m.running_mean) / torch.sqrt(m.running_var + m.eps) * m.weight + m.bias  # noqa: E731
+        bn = lambda m, v: (v - m.running_mean) / torch.sqrt(m.running_var + m.eps) * m.weight + m.bias
         want_e = torch.empty_like(e)
         want = torch.empty_like(x)
         for i in range(5):
