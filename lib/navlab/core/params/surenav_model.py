@@ -19,6 +19,7 @@ class EstimatorParams:
     walk_steps: int = between(0, 64)  # random-walk structural encoding length (0: none)
     dropout: float = between(0.0, 0.9)
     distance_scale_m: float = between(1e-3)  # edge feature = centroid distance / this
+    cost_scale_m: float = between(1e-3)  # Psi = this * softplus(MLP): metres of detour, like g and h
     window_margin_m: float = between(0.0)  # the query window: start-goal box grown by this (the expert's margin)
 
 

@@ -40,7 +40,7 @@ class RelaxationCostEstimator(nn.Module):
         self.head = nn.Sequential(nn.Linear(c, c), nn.ReLU(), nn.Linear(c, 1))
 
     def forward(self, data: Data | Batch) -> Tensor:
-        """Psi per node (num_nodes,): softplus(MLP(V^K)) on soft nodes, exactly 0 on free ones."""
+        """Psi per node (num_nodes,), metres: cost_scale_m * softplus(MLP(V^K)) on soft nodes, exactly 0 on free ones."""
         expected = NUM_LABELS + 2 + self.params.walk_steps
         if data.x.dim() != 2 or data.x.size(1) != expected:
             raise ValueError(f"node features must be (N, {expected}) (Eq. 7 + {self.params.walk_steps} random-walk "
@@ -55,7 +55,7 @@ class RelaxationCostEstimator(nn.Module):
             else:
                 x = conv(x, data.edge_index, e)
             e = conv.edge_out  # the GatedGCN's new edge states E^{k+1}
-        psi = F.softplus(self.head(x).squeeze(-1))
+        psi = self.params.cost_scale_m * F.softplus(self.head(x).squeeze(-1))
         return psi * data.soft.to(psi.dtype)
 
 
