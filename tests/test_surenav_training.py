@@ -33,7 +33,7 @@ def crossing_sample(start_col: int, goal_col: int, model_params):
     labels = np.repeat(np.repeat(block_label, BLOCK, 0), BLOCK, 1).astype(np.uint8)
     frame = RasterFrame(labels.shape, 1.0)
     graph = build_region_graph(sp, labels, frame, tau=1.0)
-    centre = lambda r, c: np.array([(c + 0.5) * BLOCK, (r + 0.5) * BLOCK])  # noqa: E731
+    centre = lambda r, c: np.array([(c + 0.5) * BLOCK, (r + 0.5) * BLOCK])
     graph = graph.with_endpoints(centre(0, start_col), centre(ROWS - 1, goal_col))
     expert = graph_astar(graph, graph.start_node, graph.goal_node, blocked=graph.node_label == GRASS)
     relaxed = expert.nodes[graph.node_label[expert.nodes] != SIDEWALK]

@@ -34,7 +34,12 @@ from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
 from navlab.search.diff_astar import DiffAStarResult, batch_graphs, diff_astar
 from navlab.surenav.loss import batch_loss
-from navlab.surenav.model.estimator import RelaxationCostEstimator, architecture, build_estimator, from_architecture
+from navlab.surenav.model.estimator import (
+    RelaxationCostEstimator,
+    architecture,
+    build_estimator,
+    from_architecture,
+)
 from navlab.surenav.training_data import Sample
 
 LIB = Path(__file__).resolve().parents[2]
@@ -75,7 +80,7 @@ def plan_batch(model: RelaxationCostEstimator, samples: Sequence[Sample], temper
                device: str | torch.device = "cpu") -> tuple[DiffAStarResult, torch.Tensor, torch.Tensor]:
     """Psi -> differentiable A* on a batch: (search result, v_rlx (B, N), v*_rlx (B, N)), padded to N."""
     data = Batch.from_data_list([s.data for s in samples]).to(device)
-    psi, real = to_dense_batch(model(data), data.batch)
+    psi, _ = to_dense_batch(model(data), data.batch)
     soft, _ = to_dense_batch(data.soft, data.batch)
     graphs = batch_graphs([s.search for s in samples], starts=[s.start for s in samples],
                           goals=[s.goal for s in samples], device=device)
