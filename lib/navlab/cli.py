@@ -31,10 +31,12 @@ def artifact_steps():
     """
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.precompute import build_hj_grids
+    from navlab.surenav.artifacts import artifact_steps as surenav_steps
 
     return [
         ("hj_grids", build_hj_grids),
         *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
+        *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)
     ]
 
 
