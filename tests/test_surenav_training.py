@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 import torch
 
-from navlab.core.grid import RasterFrame
 from navlab.core.labels import label_id
 from navlab.core.params import load_params
 from navlab.graphs.region_graph import build_region_graph
@@ -17,24 +16,20 @@ from navlab.surenav.loss import batch_loss, relaxation_loss, sample_weights
 from navlab.surenav.model.estimator import build_estimator
 from navlab.surenav.train import evaluate, load_estimator, plan_batch, train_estimator
 from navlab.surenav.training_data import make_sample
+from synthetic_city import zebra_band
 
 SIDEWALK, CROSSWALK, GRASS = label_id("sidewalk"), label_id("crosswalk"), label_id("grass")
-ROWS, COLS, BLOCK = 8, 12, 3
-ZEBRAS = (2, 9)  # band columns painted as crosswalks; the rest of the band is grass
+BLOCK = 3
 
 
 def crossing_sample(start_col: int, goal_col: int, model_params):
-    """Sidewalk above and below a two-superpixel band of grass with two crosswalks; the expert always
-    crosses on a crosswalk (grass is never relaxed), however long the detour."""
-    sp = np.repeat(np.repeat(np.arange(ROWS * COLS).reshape(ROWS, COLS), BLOCK, 0), BLOCK, 1).astype(np.int32)
-    block_label = np.full((ROWS, COLS), SIDEWALK)
-    block_label[3:5] = GRASS
-    block_label[3:5, list(ZEBRAS)] = CROSSWALK
-    labels = np.repeat(np.repeat(block_label, BLOCK, 0), BLOCK, 1).astype(np.uint8)
-    frame = RasterFrame(labels.shape, 1.0)
-    graph = build_region_graph(sp, labels, frame, tau=1.0)
+    """``zebra_band`` with start and goal on opposite sidewalks; the expert always crosses on a crosswalk
+    (grass is never relaxed), however long the detour."""
+    smap, sp = zebra_band(block=BLOCK)
+    graph = build_region_graph(sp, smap.labels, smap.frame, tau=1.0)
+    rows = smap.labels.shape[0] // BLOCK
     centre = lambda r, c: np.array([(c + 0.5) * BLOCK, (r + 0.5) * BLOCK])
-    graph = graph.with_endpoints(centre(0, start_col), centre(ROWS - 1, goal_col))
+    graph = graph.with_endpoints(centre(0, start_col), centre(rows - 1, goal_col))
     expert = graph_astar(graph, graph.start_node, graph.goal_node, blocked=graph.node_label == GRASS)
     relaxed = expert.nodes[graph.node_label[expert.nodes] != SIDEWALK]
     return make_sample(graph, relaxed, model_params, f"crossing/{start_col}-{goal_col}")
@@ -50,7 +45,7 @@ def settings():
 
 @pytest.fixture(scope="module")
 def samples(settings):
-    cols = np.random.default_rng(0).integers(0, COLS, size=(16, 2))
+    cols = np.random.default_rng(0).integers(0, 12, size=(16, 2))
     return [crossing_sample(int(a), int(b), settings[0]) for a, b in cols]
 
 
