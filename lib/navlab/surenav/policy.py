@@ -55,15 +55,21 @@ class SuReNavPolicy:
         self.cost, self.mode, self.margin = cost, mode, float(window_margin_m)
         self.last_relaxed: np.ndarray = np.zeros(0, dtype=np.int64)  # raster ids of R_rlx at the last plan
 
-    def graph_plan(self, graph: RegionGraph, position_xy: np.ndarray, goal_xy: np.ndarray) -> np.ndarray | None:
-        """X_G: node indices of ``graph`` from the position's region to the goal's (None: no path)."""
+    def relax(self, graph: RegionGraph, position_xy: np.ndarray, goal_xy: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """(window nodes, their Psi, X_G) — X_G the node indices of ``graph`` from the position's region
+        to the goal's under Eq. (6) with entry costs Psi, None when there is no path."""
         g = graph.with_endpoints(position_xy, goal_xy)
         nodes = window_nodes(g, position_xy, goal_xy, self.margin)
         psi = np.asarray(self.cost(g, nodes), dtype=np.float64)
         edges, _ = induced_edges(g, nodes)
         local = np.searchsorted(nodes, [g.start_node, g.goal_node])
         found = graph_astar(csr_graph(g.centroid[nodes], edges), int(local[0]), int(local[1]), entry_cost=psi)
-        return None if found.nodes is None else nodes[found.nodes]
+        return nodes, psi, None if found.nodes is None else nodes[found.nodes]
+
+    def graph_plan(self, graph: RegionGraph, position_xy: np.ndarray, goal_xy: np.ndarray) -> np.ndarray | None:
+        """X_G alone (see ``relax``)."""
+        return self.relax(graph, position_xy, goal_xy)[2]
 
     def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
         if graph is None:

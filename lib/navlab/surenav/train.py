@@ -184,6 +184,18 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
     return model_path
 
 
+def read_log(path: str | Path) -> list[dict]:
+    """The rows of a run's ``log.tsv`` (epoch, train_loss, val_loss, val_iou)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only surenav_estimator`")
+    lines = path.read_text().splitlines()
+    if not lines or lines[0] != LOG_HEADER:
+        raise DataError(f"{path}: not a SuReNav training log (header {LOG_HEADER!r}); rebuild the surenav_estimator stage")
+    return [{"epoch": int(e), "train_loss": float(t), "val_loss": float(v), "val_iou": float(i)}
+            for e, t, v, i in (line.split("\t") for line in lines[1:])]
+
+
 def load_estimator(path: str | Path, stage: str = "surenav_estimator",
                    device: str | torch.device = "cpu") -> RelaxationCostEstimator:
     """A trained estimator from its ``model.pt``, in eval mode on ``device``."""
