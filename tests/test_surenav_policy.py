@@ -8,7 +8,7 @@ from navlab.core.labels import HARD_IDS, SOFT_IDS, label_id
 from navlab.core.params import load_params
 from navlab.graphs.region_graph import build_region_graph
 from navlab.surenav.model.estimator import build_estimator
-from navlab.surenav.policy import MODES, SuReNavPolicy, estimator_cost
+from navlab.surenav.policy import MODES, SuReNavPolicy, estimator_cost, scored_cost
 from synthetic_city import ZEBRAS, zebra_band
 
 CROSSWALK, GRASS = label_id("crosswalk"), label_id("grass")
@@ -16,7 +16,7 @@ CROSSWALK, GRASS = label_id("crosswalk"), label_id("grass")
 
 def label_cost(table: dict[int, float]):
     """A hand-set Psi by label (0 where the table has nothing)."""
-    return lambda graph, nodes: np.array([table.get(int(lab), 0.0) for lab in graph.node_label[nodes]])
+    return lambda graph, nodes, *_: np.array([table.get(int(lab), 0.0) for lab in graph.node_label[nodes]])
 
 
 @pytest.fixture(scope="module")
@@ -68,11 +68,19 @@ def test_learned_cost_is_zero_on_free_nodes_and_the_policy_plans(town):
     cost = estimator_cost(build_estimator(params))
     g = graph.with_endpoints(np.array([1.5, 1.5]), np.array([34.5, 22.5]))
     nodes = np.arange(g.num_nodes)
-    psi = cost(g, nodes)
+    psi = cost(g, nodes, None, None)
     soft = np.isin(g.node_label, SOFT_IDS)
     assert psi.shape == (g.num_nodes,) and np.all(psi[~soft] == 0) and np.all(psi[soft] > 0)
     cells = SuReNavPolicy(cost, "free_union", params.window_margin_m).plan(smap, graph, (1, 1), (22, 34))
     assert cells is not None and tuple(cells[-1]) == (22, 34)
+
+
+def test_scored_cost_is_zero_on_free_nodes_and_scaled_on_soft_ones(town):
+    _, graph = town
+    nodes = np.arange(graph.num_nodes)
+    psi = scored_cost(lambda g, n, p, q: np.full(len(n), 0.25), 8.0)(graph, nodes, None, None)
+    soft = np.isin(graph.node_label, SOFT_IDS)
+    assert np.all(psi[~soft] == 0) and np.allclose(psi[soft], 2.0)
 
 
 def test_unknown_mode_is_one_clear_error():

@@ -28,8 +28,8 @@ from navlab.search.grid_astar import plan as grid_plan
 from navlab.surenav.model.estimator import RelaxationCostEstimator
 from navlab.surenav.model.inputs import estimator_input, induced_edges, window_nodes
 
-# (graph with start/goal set, window nodes) -> Psi >= 0 per window node, metres
-RelaxationCost = Callable[[RegionGraph, np.ndarray], np.ndarray]
+# (graph with start/goal set, window nodes, position xy, goal xy) -> Psi >= 0 per window node, metres
+RelaxationCost = Callable[[RegionGraph, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 MODES = ("free_union", "within", "graph")
 
 
@@ -37,10 +37,21 @@ def estimator_cost(model: RelaxationCostEstimator, device: str | torch.device = 
     """Psi from the trained estimator (eval mode, no gradient)."""
     model = model.to(device).eval()
 
-    def cost(graph: RegionGraph, nodes: np.ndarray) -> np.ndarray:
+    def cost(graph: RegionGraph, nodes: np.ndarray, position_xy=None, goal_xy=None) -> np.ndarray:
         with torch.no_grad():
             data = estimator_input(graph, nodes, model.params.walk_steps).to(device)
             return model(data).double().cpu().numpy()
+    return cost
+
+
+def scored_cost(score: Callable[[RegionGraph, np.ndarray, np.ndarray, np.ndarray], np.ndarray],
+                scale_m: float) -> RelaxationCost:
+    """Psi = ``scale_m`` x a hand-made score (lower = better to relax) on soft nodes, 0 on free ones: the
+    ablation that puts a rule-based scoring (RCR's label risk + distance to goal) in place of the
+    learned estimator while keeping the rest of the planner."""
+    def cost(graph: RegionGraph, nodes: np.ndarray, position_xy: np.ndarray, goal_xy: np.ndarray) -> np.ndarray:
+        soft = np.isin(graph.node_label[nodes], SOFT_IDS)
+        return np.where(soft, scale_m * np.maximum(score(graph, nodes, position_xy, goal_xy), 0.0), 0.0)
     return cost
 
 
@@ -61,7 +72,7 @@ class SuReNavPolicy:
         to the goal's under Eq. (6) with entry costs Psi, None when there is no path."""
         g = graph.with_endpoints(position_xy, goal_xy)
         nodes = window_nodes(g, position_xy, goal_xy, self.margin)
-        psi = np.asarray(self.cost(g, nodes), dtype=np.float64)
+        psi = np.asarray(self.cost(g, nodes, position_xy, goal_xy), dtype=np.float64)
         edges, _ = induced_edges(g, nodes)
         local = np.searchsorted(nodes, [g.start_node, g.goal_node])
         found = graph_astar(csr_graph(g.centroid[nodes], edges), int(local[0]), int(local[1]), entry_cost=psi)
