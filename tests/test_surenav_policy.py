@@ -4,11 +4,13 @@ import numpy as np
 import pytest
 import torch
 
+from navlab.core.io import DataError
 from navlab.core.labels import HARD_IDS, SOFT_IDS, label_id
 from navlab.core.params import load_params
 from navlab.graphs.region_graph import build_region_graph
-from navlab.surenav.model.estimator import build_estimator
-from navlab.surenav.policy import MODES, SuReNavPolicy, estimator_cost, scored_cost
+from navlab.surenav.artifacts import model_path
+from navlab.surenav.model.estimator import architecture, build_estimator
+from navlab.surenav.policy import MODES, SuReNavPolicy, estimator_cost, learned_policy, scored_cost
 from synthetic_city import ZEBRAS, zebra_band
 
 CROSSWALK, GRASS = label_id("crosswalk"), label_id("grass")
@@ -86,3 +88,18 @@ def test_scored_cost_is_zero_on_free_nodes_and_scaled_on_soft_ones(town):
 def test_unknown_mode_is_one_clear_error():
     with pytest.raises(ValueError, match="surenav.planner.mode"):
         SuReNavPolicy(label_cost({}), "centroids")
+
+
+def test_learned_policy_loads_the_trained_estimator(town, tmp_path):
+    smap, graph = town
+    params = load_params("smoke").surenav
+    torch.manual_seed(0)
+    model = build_estimator(params.model)
+    path = model_path(tmp_path, "gps", params.train.seeds[0])
+    path.parent.mkdir(parents=True)
+    torch.save({**architecture(model), "weights": model.state_dict()}, path)
+    policy = learned_policy(tmp_path, params)()
+    cells = policy.plan(smap, graph, (1, 1), (22, 34))
+    assert cells is not None and tuple(cells[-1]) == (22, 34)
+    with pytest.raises(DataError, match="surenav_estimator"):
+        learned_policy(tmp_path, params, "mpnn")

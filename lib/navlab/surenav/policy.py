@@ -16,17 +16,21 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import torch
 
 from navlab.core.labels import FREE_IDS, SOFT_IDS
+from navlab.core.params.surenav import SuReNavParams
 from navlab.graphs.region_graph import RegionGraph
 from navlab.maps.semantic_map import SemanticMap
 from navlab.search.graph_astar import csr_graph, graph_astar
 from navlab.search.grid_astar import plan as grid_plan
+from navlab.surenav.artifacts import model_path
 from navlab.surenav.model.estimator import RelaxationCostEstimator
 from navlab.surenav.model.inputs import estimator_input, induced_edges, window_nodes
+from navlab.surenav.train import load_estimator
 
 # (graph with start/goal set, window nodes, position xy, goal xy) -> Psi >= 0 per window node, metres
 RelaxationCost = Callable[[RegionGraph, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -119,3 +123,13 @@ class SuReNavPolicy:
                 return None
             cells.append(leg[1:])
         return np.concatenate(cells)
+
+
+def learned_policy(artifacts_dir: str | Path, params: SuReNavParams, variant: str = "gps", seed: int | None = None,
+                   device: str | torch.device = "cpu") -> Callable[[], SuReNavPolicy]:
+    """A factory of fresh SuReNav policies (one per episode) driven by a trained estimator of the
+    ``surenav_estimator`` stage: ``variant`` "gps" (the method) or "mpnn" (the no-attention ablation),
+    ``seed`` one of ``params.train.seeds`` (default the first). The model is loaded once."""
+    seed = params.train.seeds[0] if seed is None else seed
+    cost = estimator_cost(load_estimator(model_path(artifacts_dir, variant, seed), device=device), device)
+    return lambda: SuReNavPolicy(cost, params.planner.mode, params.model.window_margin_m)
