@@ -139,6 +139,9 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
         raise DataError("no SuReNav training samples; build the demonstrations with `python -m navlab data build`")
     out_dir = Path(out_dir)
     device = torch.device(train.device)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"surenav.train.device = {train.device!r} but torch sees no CUDA device; set it to cpu "
+                         "in params.yaml (or run the paper profile on a GPU machine)")
     torch.set_num_threads(train.threads)
     key = run_key(model_params, train, seed=seed, attention=attention,
                   inputs=sha256_json([samples_key(train_samples), samples_key(val_samples)]))
