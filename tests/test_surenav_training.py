@@ -101,6 +101,7 @@ def test_killed_training_resumes_to_the_same_weights(settings, samples, tmp_path
     resumed = torch.load(train_estimator(train_set, val_set, model_params, train, tmp_path / "killed", seed=3,
                                          progress=False), weights_only=False)
     assert [r["epoch"] for r in resumed["log"]] == [1, 2]
+    assert resumed["best_epoch"] == whole["best_epoch"] == 1 + int(np.argmax([r["val_iou"] for r in whole["log"]]))
     for name, value in whole["weights"].items():
         assert torch.equal(value, resumed["weights"][name]), name
     # a different key (another seed) never resumes this run's checkpoint
