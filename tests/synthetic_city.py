@@ -62,3 +62,20 @@ def blobs(seed: int, size: int = 80, resolution: float = 1.0) -> SemanticMap:
     fields = ndimage.gaussian_filter(gen.standard_normal((len(L), size, size)), sigma=(0, 4, 4))
     lab = np.argmax(fields, axis=0).astype(np.uint8)
     return SemanticMap(f"blobs_{seed}", lab, RasterFrame((size, size), resolution, (10.0, -5.0)))
+
+
+ZEBRAS = (2, 9)  # band columns of ``zebra_band`` painted as crosswalks
+
+
+def zebra_band(rows: int = 8, cols: int = 12, block: int = 3) -> tuple[SemanticMap, np.ndarray]:
+    """Sidewalk above and below a two-block band of grass with crosswalks at columns ``ZEBRAS``, one
+    building block on the upper sidewalk; superpixels are the ``block`` x ``block`` squares (-1 on the
+    building). Returns (map, superpixel raster)."""
+    block_label = np.full((rows, cols), L["sidewalk"])
+    block_label[3:5] = L["grass"]
+    block_label[3:5, list(ZEBRAS)] = L["crosswalk"]
+    block_label[1, 5] = L["building"]
+    labels = np.repeat(np.repeat(block_label, block, 0), block, 1).astype(np.uint8)
+    sp = np.repeat(np.repeat(np.arange(rows * cols).reshape(rows, cols), block, 0), block, 1).astype(np.int32)
+    sp[labels == L["building"]] = -1
+    return SemanticMap("zebra_band", labels, RasterFrame(labels.shape, 1.0)), sp

@@ -32,11 +32,13 @@ def artifact_steps():
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.precompute import build_hj_grids
     from navlab.surenav.episodes import build_episodes
+    from navlab.surenav.artifacts import artifact_steps as surenav_steps
 
     return [
         ("hj_grids", build_hj_grids),
         ("surenav_episodes", build_episodes),
         *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
+        *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)
     ]
 
 

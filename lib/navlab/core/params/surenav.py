@@ -6,9 +6,13 @@ from dataclasses import dataclass
 
 from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_graph import GraphParams
+from navlab.core.params.surenav_model import EstimatorParams, PlannerParams, TrainParams
 
 
 @dataclass(frozen=True)
 class SuReNavParams:
     graph: GraphParams
     benchmark: BenchmarkParams
+    model: EstimatorParams
+    train: TrainParams
+    planner: PlannerParams

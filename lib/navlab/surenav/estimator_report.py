@@ -1,0 +1,42 @@
+"""How well the trained estimators reproduce the expert's relaxations on the graph (validation vs test).
+
+Per variant (GPS, and the MPNN-only ablation) and training seed: the relaxation IoU of the plan that
+exact graph A* makes under the predicted Psi (``train.evaluate``), averaged over the validation
+(procedural maps) and the test (real tiles) demonstrations. The gap between the two is the
+procedural-to-real generalisation gap the issue asks to report; the spread is over training seeds.
+This is the graph-level quantity the training optimises; Table I's IoU comes from full episodes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from navlab.core.params.surenav_model import TrainParams
+from navlab.surenav.artifacts import VARIANTS, model_path
+from navlab.surenav.train import evaluate, load_estimator
+from navlab.surenav.training_data import Sample
+
+NAMES = {"gps": "SuReNav estimator (GPS)", "mpnn": "MPNN only (no attention, ablation)"}
+COLUMNS = ("method", "val_iou", "val_iou_sd", "test_iou", "test_iou_sd", "seeds")
+
+
+def estimator_rows(artifacts_dir: str | Path, seeds: Sequence[int], samples: Mapping[str, Sequence[Sample]],
+                   train: TrainParams) -> list[dict]:
+    """One row per variant: mean and standard deviation over ``seeds`` of the plan IoU on each split
+    of ``samples`` (keys ``val`` and ``test``)."""
+    rows = []
+    for variant in VARIANTS:
+        per_split: dict[str, list[float]] = {split: [] for split in samples}
+        for seed in seeds:
+            model = load_estimator(model_path(artifacts_dir, variant, seed))
+            for split, chosen in samples.items():
+                per_split[split].append(evaluate(model, chosen, train)[1])
+        row = {"method": NAMES[variant], "seeds": len(seeds)}
+        for split, values in per_split.items():
+            row[f"{split}_iou"] = float(np.mean(values))
+            row[f"{split}_iou_sd"] = float(np.std(values, ddof=1)) if len(values) > 1 else None
+        rows.append(row)
+    return rows

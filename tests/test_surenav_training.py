@@ -1,0 +1,127 @@
+"""Training Psi_G through the differentiable graph A* (SuReNav Sec. IV-D): loss Eq. 12-14, one step,
+resume after a kill, and a synthetic case the estimator must learn."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+import torch
+
+from navlab.core.labels import label_id
+from navlab.core.params import load_params
+from navlab.graphs.region_graph import build_region_graph
+from navlab.search.graph_astar import graph_astar
+from navlab.surenav import train as training
+from navlab.surenav.loss import batch_loss, relaxation_loss, sample_weights
+from navlab.surenav.model.estimator import build_estimator
+from navlab.surenav.train import evaluate, load_estimator, plan_batch, train_estimator
+from navlab.surenav.training_data import make_sample
+from synthetic_city import zebra_band
+
+SIDEWALK, CROSSWALK, GRASS = label_id("sidewalk"), label_id("crosswalk"), label_id("grass")
+BLOCK = 3
+
+
+def crossing_sample(start_col: int, goal_col: int, model_params):
+    """``zebra_band`` with start and goal on opposite sidewalks; the expert always crosses on a crosswalk
+    (grass is never relaxed), however long the detour."""
+    smap, sp = zebra_band(block=BLOCK)
+    graph = build_region_graph(sp, smap.labels, smap.frame, tau=1.0)
+    rows = smap.labels.shape[0] // BLOCK
+    centre = lambda r, c: np.array([(c + 0.5) * BLOCK, (r + 0.5) * BLOCK])
+    graph = graph.with_endpoints(centre(0, start_col), centre(rows - 1, goal_col))
+    expert = graph_astar(graph, graph.start_node, graph.goal_node, blocked=graph.node_label == GRASS)
+    relaxed = expert.nodes[graph.node_label[expert.nodes] != SIDEWALK]
+    return make_sample(graph, relaxed, model_params, f"crossing/{start_col}-{goal_col}")
+
+
+@pytest.fixture(scope="module")
+def settings():
+    p = load_params("smoke").surenav
+    model = dataclasses.replace(p.model, window_margin_m=100.0, walk_steps=4)
+    train = dataclasses.replace(p.train, epochs=2, batch_size=4, lr=0.01)
+    return model, train
+
+
+@pytest.fixture(scope="module")
+def samples(settings):
+    cols = np.random.default_rng(0).integers(0, 12, size=(16, 2))
+    return [crossing_sample(int(a), int(b), settings[0]) for a, b in cols]
+
+
+def test_loss_eq12_by_hand_and_sample_weight_eq14():
+    v = torch.tensor([[1.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]])
+    target = torch.tensor([[1, 0, 1, 1], [0, 0, 0, 0]], dtype=torch.bool)
+    # row 0: one false positive (node 1), two false negatives (2, 3), |v*| = 3
+    torch.testing.assert_close(relaxation_loss(v, target, 0.3, 0.7), torch.tensor([(0.3 + 1.4) / 4, 0.0]))
+    w = sample_weights(v, target, gamma=0.5)
+    torch.testing.assert_close(w, torch.tensor([min(1.0, (1.5 / 4) ** 0.5), 0.0]))
+    assert not w.requires_grad
+
+
+def test_sample_targets_are_the_crossing_regions(samples):
+    s = samples[0]
+    assert s.dropped == 0 and s.target.sum() == 2  # two band rows, one crosswalk superpixel each
+    assert s.data.soft.numpy()[s.target].all()
+
+
+def test_one_training_step_lowers_the_loss_on_a_fixed_batch(settings, samples):
+    model_params, train = settings
+    torch.manual_seed(0)
+    model = build_estimator(model_params).train()
+    optimiser = torch.optim.AdamW(model.parameters(), lr=0.05)
+    batch = samples[:8]
+    _, v, target = plan_batch(model, batch, train.temperature)
+    before = batch_loss(v, target, train)
+    optimiser.zero_grad()
+    before.backward()
+    grads = [p.grad for p in model.parameters() if p.grad is not None]
+    assert grads and any(float(g.abs().sum()) > 0 for g in grads)
+    optimiser.step()
+    _, v, target = plan_batch(model, batch, train.temperature)
+    assert float(batch_loss(v, target, train).detach()) < float(before.detach())
+
+
+def test_killed_training_resumes_to_the_same_weights(settings, samples, tmp_path, monkeypatch):
+    model_params, train = settings
+    train_set, val_set = samples[:8], samples[8:12]
+    whole = torch.load(train_estimator(train_set, val_set, model_params, train, tmp_path / "whole", seed=3,
+                                       progress=False), weights_only=False)
+    real_write = training._write_log
+
+    def killed(rows, path):
+        real_write(rows, path)
+        raise KeyboardInterrupt  # killed right after epoch 1's checkpoint
+
+    monkeypatch.setattr(training, "_write_log", killed)
+    with pytest.raises(KeyboardInterrupt):
+        train_estimator(train_set, val_set, model_params, train, tmp_path / "killed", seed=3, progress=False)
+    assert (tmp_path / "killed" / "checkpoint.pt").is_file() and not (tmp_path / "killed" / "model.pt").exists()
+    monkeypatch.setattr(training, "_write_log", real_write)
+    resumed = torch.load(train_estimator(train_set, val_set, model_params, train, tmp_path / "killed", seed=3,
+                                         progress=False), weights_only=False)
+    assert [r["epoch"] for r in resumed["log"]] == [1, 2]
+    assert resumed["best_epoch"] == whole["best_epoch"] == 1 + int(np.argmax([r["val_iou"] for r in whole["log"]]))
+    for name, value in whole["weights"].items():
+        assert torch.equal(value, resumed["weights"][name]), name
+    # a different key (another seed) never resumes this run's checkpoint
+    other = torch.load(train_estimator(train_set, val_set, model_params, train, tmp_path / "killed", seed=4,
+                                       progress=False), weights_only=False)
+    assert any(not torch.equal(v, other["weights"][k]) for k, v in whole["weights"].items())
+
+
+def test_learns_to_relax_the_label_the_expert_always_relaxes(settings, samples, tmp_path):
+    """Untrained, the plan cuts straight across the grass; trained, it takes the crosswalks."""
+    model_params, train = settings
+    train = dataclasses.replace(train, epochs=20)
+    torch.manual_seed(0)
+    _, iou_before = evaluate(build_estimator(model_params), samples[12:], train)
+    model = load_estimator(train_estimator(samples[:12], samples[12:], model_params, train, tmp_path, seed=0,
+                                           progress=False))
+    _, iou_after = evaluate(model, samples[12:], train)
+    assert iou_before < 0.5 and iou_after > 0.9, (iou_before, iou_after)
+    with torch.no_grad():
+        s = samples[12]
+        psi = model(s.data)
+    labels = s.data.x[:, :GRASS + 1].argmax(1)
+    assert psi[labels == CROSSWALK].max() < psi[labels == GRASS].min()
