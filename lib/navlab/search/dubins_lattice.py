@@ -128,3 +128,17 @@ def snap(spec: LatticeSpec, state: np.ndarray) -> np.ndarray:
     x, y, v, th = state
     return np.array([(math.floor(x / c) + 0.5) * c, (math.floor(y / c) + 0.5) * c,
                      round(v / spec.dv) * spec.dv, round(th / b) * b])
+
+
+def successor_samples(spec: LatticeSpec, table: np.ndarray, state: np.ndarray) -> np.ndarray:
+    """(P, S, 4) world-frame samples of every primitive from ``state``: what one expansion hands a pruner
+    (its last sample per primitive is the successor the heuristic sees)."""
+    x, y, v, th = (float(s) for s in state)
+    rows = table[spec.level(round(v / spec.dv) * spec.dv)]
+    c, s = math.cos(th), math.sin(th)
+    out = np.empty(rows.shape)
+    out[..., 0] = x + c * rows[..., 0] - s * rows[..., 1]
+    out[..., 1] = y + s * rows[..., 0] + c * rows[..., 1]
+    out[..., 2] = rows[..., 2]
+    out[..., 3] = th + rows[..., 3]
+    return out

@@ -33,9 +33,13 @@ from navlab.search.lattice_fields import (
     U_NONE,
     GridField,
     heuristic,
+    heuristic_batch,
+    human_prune_batch,
     human_prunes,
     interp,
+    static_prune_batch,
     static_value,
+    static_value_batch,
 )
 
 FOUND, EXPANSION_LIMIT, TIME_LIMIT, NO_PATH = 0, 1, 2, 3
@@ -52,6 +56,10 @@ class Heuristic:
     par: np.ndarray  # [goal_x, goal_y, goal_heading, v_max, tolerance, off_grid_value]
     name: str = ""
 
+    def __call__(self, states: np.ndarray) -> np.ndarray:
+        """h at (N, 4) states in one compiled call: (N,) seconds."""
+        return heuristic_batch(self.kind, self.field, self.par, _states(states))
+
 
 @dataclass(frozen=True)
 class StaticPruner:
@@ -59,6 +67,14 @@ class StaticPruner:
     field: GridField
     par: np.ndarray  # [radius or margin, value off the grid]
     name: str = ""
+
+    def __call__(self, samples: np.ndarray) -> np.ndarray:
+        """(N, S, 4) segment samples (all successors of one expansion) -> (N,) True where pruned."""
+        return static_prune_batch(self.kind, self.field, self.par, _segments(samples))
+
+    def values(self, states: np.ndarray) -> np.ndarray:
+        """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
+        return static_value_batch(self.kind, self.field, self.par, _states(states))
 
 
 @dataclass(frozen=True)
@@ -68,6 +84,25 @@ class HumanPruner:
     par: np.ndarray  # see lattice_fields.human_value
     humans: np.ndarray  # (H, 2) human positions, fixed during one search (prediction-free)
     name: str = ""
+
+    def __call__(self, parents: np.ndarray, samples: np.ndarray) -> np.ndarray:
+        """parents (N, 4), segment samples (N, S, 4) -> (N,) True where a human makes the step unsafe."""
+        return human_prune_batch(self.kind, self.field, self.par, np.ascontiguousarray(self.humans, np.float64),
+                                 _states(parents), _segments(samples))
+
+
+def _states(states) -> np.ndarray:
+    states = np.ascontiguousarray(states, dtype=np.float64)
+    if states.ndim != 2 or states.shape[1] != 4:
+        raise ValueError(f"states must be (N, 4) (x, y, v, θ), got {states.shape}")
+    return states
+
+
+def _segments(samples) -> np.ndarray:
+    samples = np.ascontiguousarray(samples, dtype=np.float64)
+    if samples.ndim != 3 or samples.shape[2] != 4:
+        raise ValueError(f"segment samples must be (N, S, 4) (x, y, v, θ), got {samples.shape}")
+    return samples
 
 
 NO_STATIC = StaticPruner(S_NONE, GridField.empty(2), np.zeros(2), "none")
