@@ -46,7 +46,7 @@ def dist_heuristic(goal_xy, v_max: float, tolerance: float) -> Heuristic:
 def map_dist_heuristic(room: Room, goal_xy, v_max: float, robot_radius: float, tolerance: float,
                        resolution: float = 0.05) -> Heuristic:
     relaxed = max(robot_radius - resolution * math.sqrt(2) / 2, 0.0)
-    time_field, frame = geodesic_time_field(room, goal_xy, v_max, relaxed, resolution)
+    time_field, _ = geodesic_time_field(room, goal_xy, v_max, relaxed, resolution)
     dist = time_field.T * v_max  # [i_x, i_y] at cell centres
     finite = np.isfinite(dist)
     if not finite.any():

@@ -72,7 +72,7 @@ class LatticeSpec:
         if abs(k - round(k)) > 1e-6 or not 0 <= round(k) < self.speed_levels:
             raise ValueError(f"speed {v} m/s is not a lattice speed level (multiples of {self.dv:g} up to "
                              f"{self.v_max:g}); start from one of them (e.g. 0)")
-        return int(round(k))
+        return round(k)
 
 
 def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int, v_max: float) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""A* and ANA* on the Dubins lattice, compiled with numba (HJ-search paper, Sec. VII; Algorithm 2).
+r"""A* and ANA* on the Dubins lattice, compiled with numba (HJ-search paper, Sec. VII; Algorithm 2).
 
 - **A\*** (Hart, Nilsson & Raphael 1968) with a node-expansion limit; a cell whose g improves is reopened,
   so an admissible (not necessarily consistent) heuristic still returns the lattice optimum.
@@ -228,13 +228,13 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     v_top = goal[4]  # the lattice's v_max
     t0 = _now()
 
-    def cell_of(x, y, v, th):  # noqa: E306 (numba closure)
-        ix = int(math.floor(x / cell_m))
-        iy = int(math.floor(y / cell_m))
+    def cell_of(x, y, v, th):
+        ix = math.floor(x / cell_m)
+        iy = math.floor(y / cell_m)
         if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
             return -1
-        lev = int(round(v / v_top * (nlev - 1)))
-        b = int(round(th / bin_w)) % nbins
+        lev = round(v / v_top * (nlev - 1))
+        b = round(th / bin_w) % nbins
         return ((ix * ny + iy) * nlev + lev) * nbins + b
 
     c0 = cell_of(start[0], start[1], start[2], start[3])
@@ -300,7 +300,7 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
         expansions += 1
         if anytime and G < np.inf and hval[cur] > 0.0:
             E = min(E, (G - g[cur]) / hval[cur])
-        lev = int(round(s[2] / v_top * (nlev - 1)))
+        lev = round(s[2] / v_top * (nlev - 1))
         cth, sth = math.cos(s[3]), math.sin(s[3])
         for p in range(n_prim):
             for j in range(n_samp):
