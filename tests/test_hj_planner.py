@@ -23,6 +23,7 @@ from navlab.reach.pruners import (
     static_prune_reference,
 )
 from navlab.search.dubins_lattice import LatticeSpec, primitive_table, snap, successor_samples
+from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Goal, search, zero_heuristic
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
@@ -175,3 +176,13 @@ def test_bad_input_stops_with_one_clear_message(grids, smoke_params):
         Planner(stale, grids, "simulation", costs=False, margin=0.05)
     with pytest.raises(DataError, match="missing"):
         Planner(smoke_params, grids / "nowhere", "simulation", costs=False, margin=0.05)
+
+
+def test_compiled_astar_matches_the_plain_python_reference():
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance)
+    for start in ([0.4, 1.0, 0.0, 0.0], [0.4, 0.4, 0.0, math.pi], [1.0, 1.7, 0.25, -1.0]):
+        ours = search(spec, ROOM.bounds, start, GOAL, h, static=obs)
+        cost, expansions = astar_reference(spec, ROOM.bounds, start, GOAL.xy, GOAL.tolerance, GOAL.max_speed, h, obs)
+        assert ours.cost == pytest.approx(cost)
+        assert abs(ours.expansions - expansions) <= 0.05 * expansions + 5  # heap ties may break differently

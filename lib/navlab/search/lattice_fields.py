@@ -65,12 +65,12 @@ class GridField(NamedTuple):
                    np.zeros(ndim, bool), np.ones(ndim, np.int64))
 
 
-@numba.njit(cache=True, inline="always")
-def _axis(f, k, x):
+@numba.njit(cache=True)
+def _axis(flo, finv, fshape, fper, fstr, k, x):
     """Lower corner offset, offset to the upper corner and fraction along axis ``k``."""
-    n = f.shape[k]
-    x = (x - f.lo[k]) * f.inv_spacing[k]
-    if f.periodic[k]:
+    n = fshape[k]
+    x = (x - flo[k]) * finv[k]
+    if fper[k]:
         i0 = math.floor(x)
         fr = x - i0
         i0 = int(i0) % n
@@ -80,29 +80,29 @@ def _axis(f, k, x):
         i0 = min(int(x), n - 2)
         fr = x - i0
         i1 = i0 + 1
-    return i0 * f.strides[k], (i1 - i0) * f.strides[k], fr
+    return i0 * fstr[k], (i1 - i0) * fstr[k], fr
 
 
 @numba.njit(cache=True)
-def interp(f, p0, p1, p2, p3):
+def interp(fv, flo, finv, fshape, fper, fstr, p0, p1, p2, p3):
     """Multilinear interpolant of field ``f`` (2, 3 or 4 axes) at (p0, ..., p_{d-1}); periodic axes wrap,
     others clamp. Written out per dimension: no allocation in the hot loop."""
-    d = f.lo.shape[0]
-    v = f.values
-    b0, o0, t0 = _axis(f, 0, p0)
-    b1, o1, t1 = _axis(f, 1, p1)
+    d = flo.shape[0]
+    v = fv
+    b0, o0, t0 = _axis(flo, finv, fshape, fper, fstr, 0, p0)
+    b1, o1, t1 = _axis(flo, finv, fshape, fper, fstr, 1, p1)
     i = b0 + b1
     if d == 2:
         return ((1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1])
                 + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1]))
-    b2, o2, t2 = _axis(f, 2, p2)
+    b2, o2, t2 = _axis(flo, finv, fshape, fper, fstr, 2, p2)
     i += b2
     if d == 3:
         lo = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
         i += o2
         hi = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
         return (1 - t2) * lo + t2 * hi
-    b3, o3, t3 = _axis(f, 3, p3)
+    b3, o3, t3 = _axis(flo, finv, fshape, fper, fstr, 3, p3)
     i += b3
     out = 0.0
     for c3 in range(2):
@@ -121,7 +121,7 @@ def wrap(a):
 
 
 @numba.njit(cache=True)
-def heuristic(kind, f, par, x, y, v, th):
+def heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, x, y, v, th):
     """par: [goal_x, goal_y, goal_heading, v_max, tolerance_or_goal_radius, off_grid_value]."""
     if kind == H_ZERO:
         return 0.0
@@ -129,37 +129,37 @@ def heuristic(kind, f, par, x, y, v, th):
     if kind == H_DIST:
         return max(math.sqrt(dx * dx + dy * dy) - par[4], 0.0) / par[3]
     if kind == H_RASTER:
-        return interp(f, x, y, 0.0, 0.0)
+        return interp(fv, flo, finv, fshape, fper, fstr, x, y, 0.0, 0.0)
     if kind == H_GOAL_GRID:
         c, s = math.cos(par[2]), math.sin(par[2])
         lx, ly = c * dx + s * dy, -s * dx + c * dy
-        if lx < f.lo[0] or ly < f.lo[1] or lx > f.lo[0] + (f.shape[0] - 1) / f.inv_spacing[0] \
-                or ly > f.lo[1] + (f.shape[1] - 1) / f.inv_spacing[1]:
+        if lx < flo[0] or ly < flo[1] or lx > flo[0] + (fshape[0] - 1) / finv[0] \
+                or ly > flo[1] + (fshape[1] - 1) / finv[1]:
             return max(math.sqrt(lx * lx + ly * ly) - par[4], 0.0) / par[3]
-        return interp(f, lx, ly, v, wrap(th - par[2]))
+        return interp(fv, flo, finv, fshape, fper, fstr, lx, ly, v, wrap(th - par[2]))
     # H_ROOM_GRID
-    if x < f.lo[0] or y < f.lo[1] or x > f.lo[0] + (f.shape[0] - 1) / f.inv_spacing[0] \
-            or y > f.lo[1] + (f.shape[1] - 1) / f.inv_spacing[1]:
+    if x < flo[0] or y < flo[1] or x > flo[0] + (fshape[0] - 1) / finv[0] \
+            or y > flo[1] + (fshape[1] - 1) / finv[1]:
         return par[5]
-    return interp(f, x, y, v, th)
+    return interp(fv, flo, finv, fshape, fper, fstr, x, y, v, th)
 
 
 @numba.njit(cache=True)
-def static_value(kind, f, par, x, y, v, th):
+def static_value(kind, fv, flo, finv, fshape, fper, fstr, par, x, y, v, th):
     """The static pruner's safety value at one state: clearance (S_OBS) or BRT value (S_BRT), minus margin.
 
     par: [robot_radius (S_OBS) or margin (S_BRT), value off the grid]. Positive is safe.
     """
-    if x < f.lo[0] or y < f.lo[1] or x > f.lo[0] + (f.shape[0] - 1) / f.inv_spacing[0] \
-            or y > f.lo[1] + (f.shape[1] - 1) / f.inv_spacing[1]:
+    if x < flo[0] or y < flo[1] or x > flo[0] + (fshape[0] - 1) / finv[0] \
+            or y > flo[1] + (fshape[1] - 1) / finv[1]:
         return par[1] - par[0]
     if kind == S_OBS:
-        return interp(f, x, y, 0.0, 0.0) - par[0]
-    return interp(f, x, y, v, th) - par[0]
+        return interp(fv, flo, finv, fshape, fper, fstr, x, y, 0.0, 0.0) - par[0]
+    return interp(fv, flo, finv, fshape, fper, fstr, x, y, v, th) - par[0]
 
 
 @numba.njit(cache=True)
-def human_value(f, par, x, y, v, th, hx, hy):
+def human_value(fv, flo, finv, fshape, fper, fstr, par, x, y, v, th, hx, hy):
     """Human-robot BRT value for a robot state and a human position (reach.lookup.HumanBRTLookup).
 
     par: [collision_radius, closing_distance (speed sum × horizon), m, Δt, γ_min, γ_max, k_θ, w_θ, w_d, d_th].
@@ -167,10 +167,10 @@ def human_value(f, par, x, y, v, th, hx, hy):
     c, s = math.cos(th), math.sin(th)
     rx, ry = hx - x, hy - y
     px, py = c * rx + s * ry, -s * rx + c * ry
-    if px < f.lo[0] or py < f.lo[1] or px > f.lo[0] + (f.shape[0] - 1) / f.inv_spacing[0] \
-            or py > f.lo[1] + (f.shape[1] - 1) / f.inv_spacing[1]:
+    if px < flo[0] or py < flo[1] or px > flo[0] + (fshape[0] - 1) / finv[0] \
+            or py > flo[1] + (fshape[1] - 1) / finv[1]:
         return math.sqrt(px * px + py * py) - par[0] - par[1]
-    return interp(f, px, py, v, 0.0)
+    return interp(fv, flo, finv, fshape, fper, fstr, px, py, v, 0.0)
 
 
 @numba.njit(cache=True)
@@ -187,18 +187,18 @@ def adaptive_gamma(par, x, y, th, hx, hy):
 
 
 @numba.njit(cache=True)
-def human_prunes(kind, f, par, humans, parent, samples, n):
+def human_prunes(kind, fv, flo, finv, fshape, fper, fstr, par, humans, parent, samples, n):
     """True when any of the ``n`` segment samples (last = the successor) violates a human pruner."""
     m, dt = par[2], par[3]
     for h in range(humans.shape[0]):
         hx, hy = humans[h, 0], humans[h, 1]
         for i in range(n):
-            if human_value(f, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < m:
+            if human_value(fv, flo, finv, fshape, fper, fstr, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < m:
                 return True
         if kind == U_FI:
             s = samples[n - 1]
-            v1 = human_value(f, par, s[0], s[1], s[2], s[3], hx, hy)
-            v0 = human_value(f, par, parent[0], parent[1], parent[2], parent[3], hx, hy)
+            v1 = human_value(fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3], hx, hy)
+            v0 = human_value(fv, flo, finv, fshape, fper, fstr, par, parent[0], parent[1], parent[2], parent[3], hx, hy)
             gamma = adaptive_gamma(par, s[0], s[1], s[3], hx, hy)
             if (v1 - v0) / dt < -gamma * (v1 - m):
                 return True
@@ -207,20 +207,22 @@ def human_prunes(kind, f, par, humans, parent, samples, n):
 
 @numba.njit(cache=True)
 def heuristic_batch(kind, f, par, states):
+    fv, flo, finv, fshape, fper, fstr = f
     out = np.empty(states.shape[0])
     for i in range(states.shape[0]):
-        out[i] = heuristic(kind, f, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+        out[i] = heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
     return out
 
 
 @numba.njit(cache=True)
 def static_prune_batch(kind, f, par, samples):
     """samples (N, S, 4): True for each of the N segments with any sample at or below the threshold."""
+    fv, flo, finv, fshape, fper, fstr = f
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
         for j in range(samples.shape[1]):
             s = samples[i, j]
-            if static_value(kind, f, par, s[0], s[1], s[2], s[3]) <= 0.0:
+            if static_value(kind, fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3]) <= 0.0:
                 out[i] = True
                 break
     return out
@@ -228,16 +230,45 @@ def static_prune_batch(kind, f, par, samples):
 
 @numba.njit(cache=True)
 def static_value_batch(kind, f, par, states):
+    fv, flo, finv, fshape, fper, fstr = f
     out = np.empty(states.shape[0])
     for i in range(states.shape[0]):
-        out[i] = static_value(kind, f, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+        out[i] = static_value(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
     return out
 
 
 @numba.njit(cache=True)
 def human_prune_batch(kind, f, par, humans, parents, samples):
     """parents (N, 4), samples (N, S, 4): True for each segment a human pruner drops."""
+    fv, flo, finv, fshape, fper, fstr = f
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
-        out[i] = human_prunes(kind, f, par, humans, parents[i], samples[i], samples.shape[1])
+        out[i] = human_prunes(kind, fv, flo, finv, fshape, fper, fstr, par, humans, parents[i], samples[i], samples.shape[1])
     return out
+
+
+@numba.njit(cache=True)
+def heuristic_loop(kind, f, par, states, calls):
+    """``calls`` repeated evaluations of ``states`` inside compiled code (how the search pays for them):
+    timed from Python in one call, it gives the per-state cost without the Python call overhead."""
+    fv, flo, finv, fshape, fper, fstr = f
+    total = 0.0
+    for _ in range(calls):
+        for i in range(states.shape[0]):
+            total += heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+    return total
+
+
+@numba.njit(cache=True)
+def static_prune_loop(kind, f, par, samples, calls):
+    """As ``heuristic_loop``, for the static pruner over (N, S, 4) segments; returns the pruned count."""
+    fv, flo, finv, fshape, fper, fstr = f
+    pruned = 0
+    for _ in range(calls):
+        for i in range(samples.shape[0]):
+            for j in range(samples.shape[1]):
+                s = samples[i, j]
+                if static_value(kind, fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3]) <= 0.0:
+                    pruned += 1
+                    break
+    return pruned

@@ -227,6 +227,10 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     bin_w = 2.0 * math.pi / nbins
     v_top = goal[4]  # the lattice's v_max
     t0 = _now()
+    hv, hlo, hinv, hsh, hper, hstr = hf
+    sv, slo, sinv, ssh, sper, sstr = sf
+    uv, ulo, uinv, ush, uper, ustr = uf
+    cv, clo, cinv, csh, cper, cstr = cf
 
     def cell_of(x, y, v, th):
         ix = math.floor(x / cell_m)
@@ -240,7 +244,7 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     c0 = cell_of(start[0], start[1], start[2], start[3])
     g[c0] = 0.0
     st[c0] = start
-    h0 = heuristic(hk, hf, hp, start[0], start[1], start[2], start[3])
+    h0 = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, start[0], start[1], start[2], start[3])
     hval[c0] = h0
     G = np.inf
     E = np.inf
@@ -320,7 +324,7 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
                 continue
             step = dt
             if use_cost:
-                step = dt * (1.0 + cost_w * interp(cf, end[0], end[1], 0.0, 0.0))
+                step = dt * (1.0 + cost_w * interp(cv, clo, cinv, csh, cper, cstr, end[0], end[1], 0.0, 0.0))
             ng = g[cur] + step
             if ng >= g[nc]:
                 continue
@@ -328,14 +332,14 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
                 bad = False
                 for j in range(n_samp):
                     p_evals += 1
-                    if static_value(sk, sf, sp, samples[j, 0], samples[j, 1], samples[j, 2], samples[j, 3]) <= 0.0:
+                    if static_value(sk, sv, slo, sinv, ssh, sper, sstr, sp, samples[j, 0], samples[j, 1], samples[j, 2], samples[j, 3]) <= 0.0:
                         bad = True
                         break
                 if bad:
                     continue
-            if uk != U_NONE and human_prunes(uk, uf, up, humans, s, samples, n_samp):
+            if uk != U_NONE and human_prunes(uk, uv, ulo, uinv, ush, uper, ustr, up, humans, s, samples, n_samp):
                 continue
-            h = heuristic(hk, hf, hp, end[0], end[1], end[2], end[3])
+            h = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, end[0], end[1], end[2], end[3])
             h_evals += 1
             if anytime and ng + h >= G:
                 continue
@@ -386,7 +390,7 @@ def replay(spec: LatticeSpec, table: np.ndarray, start: np.ndarray, prims: np.nd
             end[3] = round(end[3] / bin_w) * bin_w
         end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
         states.append(end)
-        w = 0.0 if costmap.field is None else costmap.weight * float(interp(costmap.field, end[0], end[1], 0.0, 0.0))
+        w = 0.0 if costmap.field is None else costmap.weight * float(interp(*costmap.field, end[0], end[1], 0.0, 0.0))
         cost += spec.dt * (1.0 + w)
     return np.array(states), cost
 
@@ -411,7 +415,7 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
             raise ValueError(f"{name} {(float(x), float(y))} is outside the map [0, {x1}) × [0, {y1}); "
                              f"choose a position inside it")
     if static.kind != S_NONE:
-        clearance = float(static_value(static.kind, static.field, static.par, *start))
+        clearance = float(static.values(start[None])[0])
         if clearance <= 0.0:
             raise ValueError(f"start {tuple(start.round(3))} is already pruned by the {static.name or 'static'} "
                              f"pruner (value {clearance:.3f} <= 0: in collision or inside the BRT); move the start")
