@@ -93,5 +93,84 @@ class GridsParams:
 
 
 @dataclass(frozen=True)
+class LatticeParams:
+    """The Dubins lattice (search.dubins_lattice): every a·dt must be a whole number of speed levels."""
+
+    dt_s: float = between(0.05, 2.0)
+    accelerations: tuple[float, ...] = between(-10.0, 10.0)
+    turn_rates: tuple[float, ...] = between(-10.0, 10.0)
+    speed_levels: int = between(2, 101)
+    samples_per_step: int = between(1, 32)
+    cell_m: float = between(0.01, 1.0)
+    heading_bins: int = between(4, 720)
+
+
+@dataclass(frozen=True)
+class FIBRTParams:
+    """Appendix A, Table X: the forward-invariant human pruner (Eq. 14-18)."""
+
+    dt_s: float = between(0.01, 2.0)
+    margin: float = between(-1.0, 1.0)
+    gamma_min: float = between(0.0, 100.0)
+    gamma_max: float = between(0.0, 100.0)
+    k_theta: float = between(0.0, 100.0)
+    w_theta: float = between(0.0, 1.0)
+    w_dist: float = between(0.0, 1.0)
+    d_threshold_m: float = between(0.01, 10.0)
+
+
+@dataclass(frozen=True)
+class TaskSetParams:
+    """One start, one goal, several initial headings (degrees) in one room (Tables I-IV)."""
+
+    room: Literal["simulation", "long_hallway", "dense_room"]
+    start_xy: tuple[float, ...] = between(0.0, 20.0, length=2)
+    goal_xy: tuple[float, ...] = between(0.0, 20.0, length=2)
+    headings_deg: tuple[float, ...] = between(-360.0, 360.0)
+
+
+@dataclass(frozen=True)
+class RandomTasksParams:
+    """Table V: random start-goal pairs, separated by an obstacle or at least min_distance_m apart."""
+
+    room: Literal["simulation", "long_hallway", "dense_room"]
+    pairs: int = between(1, 10000)
+    min_distance_m: float = between(0.0, 20.0)
+
+
+@dataclass(frozen=True)
+class ComputeParams:
+    """Table VII: calls per component and the paper's input sizes."""
+
+    calls: int = between(1, 10**7)
+    heuristic_states: int = between(1, 10000)
+    pruner_states: int = between(1, 10000)
+
+
+@dataclass(frozen=True)
+class PlannerParams:
+    """HJ-guided lattice search and the static-planning experiments (paper Sec. VII-A..C, VII-E)."""
+
+    lattice: LatticeParams
+    goal_tolerance_astar_m: float = between(0.01, 2.0)
+    goal_tolerance_anastar_m: float = between(0.01, 2.0)
+    goal_max_speed: float = between(0.0, 10.0)
+    cost_weight: float = between(0.0, 1000.0)  # Nav2-style state cost: dt · (1 + w · exp(-decay · clearance))
+    cost_decay_per_m: float = between(0.0, 100.0)
+    astar_max_expansions: int = between(1)
+    anastar_max_expansions: int = between(1)
+    anastar_time_limit_s: float = between(0.001, 600.0)
+    brt_margin_refine: tuple[int, ...] = between(1, 8, length=4)
+    fi_brt: FIBRTParams
+    table1: TaskSetParams
+    table2: TaskSetParams
+    table3: TaskSetParams
+    table4: TaskSetParams
+    table5: RandomTasksParams
+    table7: ComputeParams
+
+
+@dataclass(frozen=True)
 class HJParams:
     grids: GridsParams
+    planner: PlannerParams

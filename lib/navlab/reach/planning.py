@@ -1,0 +1,167 @@
+"""HJ-guided planning runs of the paper's static experiments (Sec. VII-A..C): one task, one heuristic, one
+pruner, A* or ANA*, then the paper's feasibility check.
+
+``Planner`` binds params.yaml (``hj.planner``, ``hj.grids``), the room and the stored value functions;
+``run`` plans one task and returns a ``TaskResult`` with what the tables report: success (a plan within
+the budget that passes the densified check), expansions (to the first solution for ANA*, as the paper
+records them), cost, and time. The feasibility check replays the plan's controls 8 times finer than the
+search sampled them (``search.dubins_lattice.densify``) and requires positive clearance everywhere.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from navlab.core.params import Params
+from navlab.maps.rooms import Room, load_room
+from navlab.reach.brt_margin import measure_static_brt_margin
+from navlab.reach.guidance import dist_heuristic, map_dist_heuristic, map_ttr_heuristic, ttr_heuristic
+from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
+from navlab.reach.pruners import clearance_field, obs_pruner, static_brt_pruner
+from navlab.search.dubins_lattice import LatticeSpec, densify, primitive_table
+from navlab.search.lattice_fields import GridField
+from navlab.search.lattice_search import NO_STATIC, Costmap, Goal, SearchResult, search
+
+HEURISTICS = ("Dist", "map Dist", "TTR", "map TTR")
+PRUNERS = ("none", "OBS", "BRT")
+
+
+def lattice_spec(params: Params) -> LatticeSpec:
+    lat, robot = params.hj.planner.lattice, params.hj.grids.robot
+    for a in lat.accelerations:
+        if not robot.accel_min <= a <= robot.accel_max:
+            raise ValueError(f"hj.planner.lattice.accelerations: {a} is outside the robot's "
+                             f"[{robot.accel_min}, {robot.accel_max}] (hj.grids.robot)")
+    if max(abs(w) for w in lat.turn_rates) > robot.omega_max:
+        raise ValueError(f"hj.planner.lattice.turn_rates exceed hj.grids.robot.omega_max = {robot.omega_max}")
+    return LatticeSpec(lat.dt_s, lat.accelerations, lat.turn_rates, robot.v_max, lat.speed_levels,
+                       lat.samples_per_step, lat.cell_m, lat.heading_bins)
+
+
+def costmap_field(room: Room, robot_radius: float, decay: float, resolution: float = 0.02) -> GridField:
+    """Nav2-like inflation cost exp(−decay · clearance) (1 at contact) on the room raster."""
+    sdf = clearance_field(room, resolution)
+    values = np.exp(-decay * np.maximum(sdf.values.astype(np.float64) - robot_radius, 0.0)).astype(np.float32)
+    return sdf._replace(values=values)
+
+
+def feasible(room: Room, robot_radius: float, spec: LatticeSpec, result: SearchResult, per_step: int = 32) -> bool:
+    """The paper's check: the plan replayed densely under the dynamics keeps positive clearance."""
+    if not result.found:
+        return False
+    dense = densify(spec, result.states[0], result.controls, per_step)
+    return bool((room.signed_distance(dense[:, 0], dense[:, 1], robot_radius) > 0.0).all())
+
+
+@dataclass
+class TaskResult:
+    heuristic: str
+    pruner: str
+    algorithm: str
+    start: tuple[float, ...]
+    goal: tuple[float, float]
+    status: str
+    found: bool
+    feasible: bool
+    expansions: int  # A*: all; ANA*: to the first solution (the paper's measure), all when none
+    total_expansions: int
+    cost: float
+    first_cost: float
+    seconds: float
+    bound: float
+
+    @property
+    def success(self) -> bool:
+        return self.found and self.feasible
+
+
+class Planner:
+    """Everything one room's experiments share: lattice, value functions, costmap, BRT margin."""
+
+    def __init__(self, params: Params, artifacts_dir: str | Path, room: str, *, costs: bool,
+                 log=print, margin: float | None = None):
+        self.params, self.room = params, load_room(room)
+        self.p = params.hj.planner
+        self.robot = params.hj.grids.robot
+        self.spec = lattice_spec(params)
+        self.table = primitive_table(self.spec)
+        self.artifacts_dir = artifacts_dir
+        self._ttr = load_ttr(params, artifacts_dir)
+        self._brt = load_static_brt(params, artifacts_dir, room)
+        self.margin_report = None
+        if margin is None:
+            self.margin_report = measure_static_brt_margin(params, artifacts_dir, room, self.p.brt_margin_refine,
+                                                           log=log)
+            margin = self.margin_report["margin"]
+        self.margin = float(margin)
+        self.costmap = Costmap(costmap_field(self.room, self.robot.radius_m, self.p.cost_decay_per_m),
+                               self.p.cost_weight) if costs else Costmap()
+
+    def heuristic(self, name: str, goal_xy, tolerance: float):
+        if name == "Dist":
+            return dist_heuristic(goal_xy, self.robot.v_max, tolerance)
+        if name == "map Dist":
+            return map_dist_heuristic(self.room, goal_xy, self.robot.v_max, self.robot.radius_m, tolerance)
+        if name == "TTR":
+            return ttr_heuristic(self._ttr, goal_xy)
+        if name == "map TTR":
+            return map_ttr_heuristic(load_map_ttr(self.params, self.artifacts_dir), goal_xy)
+        raise ValueError(f"heuristic {name!r}: choose one of {', '.join(HEURISTICS)}")
+
+    def pruner(self, name: str):
+        if name == "none":
+            return NO_STATIC
+        if name == "OBS":
+            return obs_pruner(self.room, self.robot.radius_m)
+        if name == "BRT":
+            return static_brt_pruner(self._brt, self.margin)
+        raise ValueError(f"pruner {name!r}: choose one of {', '.join(PRUNERS)}")
+
+    def run(self, start, goal_xy, heuristic: str, pruner: str, algorithm: str) -> tuple[TaskResult, SearchResult]:
+        if algorithm not in ("A*", "ANA*"):
+            raise ValueError(f"algorithm {algorithm!r}: use 'A*' or 'ANA*'")
+        anytime = algorithm == "ANA*"
+        tol = self.p.goal_tolerance_anastar_m if anytime else self.p.goal_tolerance_astar_m
+        goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
+        res = search(self.spec, self.room.bounds, start, goal, self.heuristic(heuristic, goal_xy, tol),
+                     static=self.pruner(pruner), costmap=self.costmap, anytime=anytime, table=self.table,
+                     max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions,
+                     time_limit_s=self.p.anastar_time_limit_s if anytime else math.inf)
+        first = res.first_solution_expansions if anytime else None
+        out = TaskResult(
+            heuristic, pruner, algorithm, tuple(map(float, start)), goal.xy, res.status, res.found,
+            feasible(self.room, self.robot.radius_m, self.spec, res),
+            int(first if first is not None else res.expansions), res.expansions, res.cost,
+            res.solution_costs[0] if res.solution_costs else res.cost, res.seconds,
+            res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf))
+        return out, res
+
+
+def heading_tasks(start_xy, headings_deg) -> list[np.ndarray]:
+    """Start states at rest with each initial heading."""
+    return [np.array([start_xy[0], start_xy[1], 0.0, math.radians(h)]) for h in headings_deg]
+
+
+def random_pairs(room: Room, robot_radius: float, n: int, min_distance: float, seed: int) -> list[tuple]:
+    """Table V: start (at rest, random heading) and goal in free space, at least 0.3 m clear of obstacles,
+    either ``min_distance`` apart or with the straight line between them blocked."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        xy = rng.uniform((0.0, 0.0), (room.width, room.height), size=(2, 2))
+        if (room.signed_distance(xy[:, 0], xy[:, 1], robot_radius) < 0.3).any():
+            continue
+        line = xy[0] + np.linspace(0, 1, 50)[:, None] * (xy[1] - xy[0])
+        blocked = (room.signed_distance(line[:, 0], line[:, 1], robot_radius) < 0).any()
+        if blocked or np.linalg.norm(xy[1] - xy[0]) >= min_distance:
+            out.append((np.array([xy[0, 0], xy[0, 1], 0.0, rng.uniform(-math.pi, math.pi)]), tuple(xy[1])))
+    return out
+
+
+def run_tasks(planner: Planner, tasks: list[tuple], heuristic: str, pruner: str, algorithm: str) -> list[TaskResult]:
+    """Plan every (start, goal_xy) task with one heuristic, pruner and algorithm."""
+    return [planner.run(start, goal, heuristic, pruner, algorithm)[0] for start, goal in tasks]

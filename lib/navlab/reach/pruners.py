@@ -1,0 +1,102 @@
+"""Pruners of the HJ-search paper as compiled look-ups: OBS, static-map BRT (Eq. 12), human FS- and
+FI-BRT (Eq. 14-18, Table X).
+
+All take whole segments: a pruner sees the ``samples_per_step`` points of every primitive of one
+expansion (the paper's Table VII: 140 states per call) and drops a successor when any point fails.
+
+- ``obs_pruner``: the instantaneous check: clearance (exact signed distance to the room's walls and
+  obstacles, sampled on a fine raster) minus the robot radius must be > 0;
+- ``static_brt_pruner``: the static-map BRT value must be > ``margin``, a margin measured against a finer
+  solve (``reach.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
+- ``human_pruner``: the human-robot BRT with the humans fixed at their observed positions (prediction
+  free). ``"fs"`` prunes V < m; ``"fi"`` prunes that and, with the finite difference of Eq. 15 over the
+  step Δt, (V(s') − V(s)) / Δt < −γ (V(s') − m), γ adapted by Eq. 16-18 between γ_min and γ_max. FS is
+  FI's limiting case γ → ∞, so FI prunes a superset of FS (tested).
+
+``*_reference`` are the plain numpy versions (through ``reach.lookup``) the tests compare against.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from navlab.maps.rooms import Room
+from navlab.reach.guidance import grid_field
+from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup, wrap_angle
+from navlab.search.lattice_fields import S_BRT, S_OBS, U_FI, U_FS, GridField
+from navlab.search.lattice_search import HumanPruner, StaticPruner
+
+
+@dataclass(frozen=True)
+class FIParams:
+    """Appendix A, Table X."""
+
+    dt: float = 0.5  # Δt between neighbouring nodes (Eq. 15)
+    margin: float = 0.0  # m
+    gamma_min: float = 0.8
+    gamma_max: float = 1.2
+    k_theta: float = 10.0  # Eq. 16
+    w_theta: float = 0.5  # Eq. 18
+    w_dist: float = 0.5
+    d_threshold: float = 0.5  # Eq. 17, m
+
+
+def clearance_field(room: Room, resolution: float = 0.02) -> GridField:
+    """Signed distance to walls ∪ obstacles on raster nodes covering the room, [i_x, i_y]."""
+    nx, ny = round(room.width / resolution) + 1, round(room.height / resolution) + 1
+    x, y = np.meshgrid(np.linspace(0, room.width, nx), np.linspace(0, room.height, ny), indexing="ij")
+    return GridField.from_grid(room.obstacle_distance(x, y).astype(np.float32), (0.0, 0.0),
+                               (room.width / (nx - 1), room.height / (ny - 1)), (False, False))
+
+
+def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
+    return StaticPruner(S_OBS, clearance_field(room, resolution), np.array([robot_radius, -1.0]), "OBS")
+
+
+def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:
+    if margin < 0:
+        raise ValueError(f"static BRT margin {margin} < 0 would let unsafe states through; use >= 0")
+    return StaticPruner(S_BRT, grid_field(lookup.stored.values, lookup.grid),
+                        np.array([margin, lookup.unsafe_value]), "BRT")
+
+
+def human_pruner(lookup: HumanBRTLookup, humans, kind: str = "fi", fi: FIParams = FIParams()) -> HumanPruner:
+    if kind not in ("fs", "fi"):
+        raise ValueError(f"human pruner kind {kind!r}: use 'fs' (feasible set) or 'fi' (forward invariant)")
+    humans = np.asarray(humans, np.float64).reshape(-1, 2)
+    par = np.array([lookup.collision_radius, lookup.closing, fi.margin, fi.dt, fi.gamma_min, fi.gamma_max,
+                    fi.k_theta, fi.w_theta, fi.w_dist, fi.d_threshold])
+    return HumanPruner(U_FI if kind == "fi" else U_FS, grid_field(lookup.stored.values, lookup.grid), par,
+                       humans, f"{kind.upper()}-BRT")
+
+
+def static_prune_reference(lookup: StaticBRTLookup, margin: float, samples: np.ndarray) -> np.ndarray:
+    """numpy twin of the compiled static BRT pruner: (N, S, 4) segments -> (N,) True = pruned."""
+    n, s, _ = samples.shape
+    return (lookup(samples.reshape(-1, 4)) <= margin).reshape(n, s).any(axis=1)
+
+
+def adaptive_gamma_reference(fi: FIParams, collision_radius: float, robot: np.ndarray, human_xy) -> np.ndarray:
+    """Eq. 16-18 in numpy, for (N, 4) robot states and one human position."""
+    rel = np.asarray(human_xy, float)[None] - robot[:, :2]
+    a_theta = np.exp(-fi.k_theta * np.abs(wrap_angle(robot[:, 3] - np.arctan2(rel[:, 1], rel[:, 0]))))
+    a_dist = np.maximum(0.0, 1.0 - (np.linalg.norm(rel, axis=1) - collision_radius) / fi.d_threshold)
+    risk = np.clip(fi.w_theta * a_theta + fi.w_dist * a_dist, 0.0, 1.0)
+    return fi.gamma_max - (fi.gamma_max - fi.gamma_min) * risk
+
+
+def human_prune_reference(lookup: HumanBRTLookup, humans, kind: str, fi: FIParams, parents: np.ndarray,
+                          samples: np.ndarray) -> np.ndarray:
+    """numpy twin of the compiled human pruner: parents (N, 4), samples (N, S, 4) -> (N,) True = pruned."""
+    n, s, _ = samples.shape
+    out = np.zeros(n, bool)
+    for hxy in np.asarray(humans, float).reshape(-1, 2):
+        values = lookup(samples.reshape(-1, 4), np.broadcast_to(hxy, (n * s, 2))).reshape(n, s)
+        out |= (values < fi.margin).any(axis=1)
+        if kind == "fi":
+            v1, v0 = values[:, -1], lookup(parents, np.broadcast_to(hxy, (n, 2)))
+            gamma = adaptive_gamma_reference(fi, lookup.collision_radius, samples[:, -1], hxy)
+            out |= (v1 - v0) / fi.dt < -gamma * (v1 - fi.margin)
+    return out

@@ -1,0 +1,144 @@
+"""A kinodynamic lattice for the 4D Dubins car of the HJ-search paper (Eq. 19), state (x, y, v, θ).
+
+Why this shape: the paper searches over (acceleration, turn-rate) primitives held for a step ``dt``
+(its Table X: 0.5 s between neighbouring nodes) and counts 35 successors and 140 pruned states per
+expansion (Table VII): 5 accelerations × 7 turn rates, each checked at 4 points along its segment.
+Speeds are kept on levels ``k · v_max / (n - 1)``: every ``a · dt`` is a whole number of levels and v is
+clipped to [0, v_max] (the grids' speed axis), so a primitive's shape depends only on the speed level it
+starts from and on the control. ``primitive_table`` integrates it once per level in the body frame; an
+expansion then only rotates and translates a table row (no integration in the hot loop).
+
+Nodes keep their continuous state and are identified by a snapped cell ``(⌊x/c⌋, ⌊y/c⌋, level,
+round(θ/bin))`` for duplicate detection, as Nav2's Smac hybrid A* does. With ``snap_states`` the node
+state is moved to its cell's centre instead: the lattice is then a fixed graph, which is what an
+independent Dijkstra can check the search against.
+
+``integrate`` (plain numpy, any number of micro-steps) is the reference integrator; ``densify`` replays a
+plan's controls with it, finer than the search did, for the paper's feasibility check.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class LatticeSpec:
+    """Primitives and cells of the lattice. Units: s, m/s², rad/s, m."""
+
+    dt: float
+    accelerations: tuple[float, ...]
+    turn_rates: tuple[float, ...]
+    v_max: float
+    speed_levels: int
+    samples_per_step: int  # points per primitive handed to a pruner (the last is the successor itself)
+    cell_m: float
+    heading_bins: int
+    snap_states: bool = False
+    micro_steps: int = 4  # midpoint-rule sub-steps per sample when building the table
+
+    def __post_init__(self):
+        if self.dt <= 0 or self.v_max <= 0 or self.cell_m <= 0:
+            raise ValueError(f"LatticeSpec: dt, v_max and cell_m must be > 0; got {self}")
+        if self.speed_levels < 2 or self.heading_bins < 4 or self.samples_per_step < 1:
+            raise ValueError("LatticeSpec: need speed_levels >= 2, heading_bins >= 4, samples_per_step >= 1")
+        if not self.accelerations or not self.turn_rates:
+            raise ValueError("LatticeSpec: accelerations and turn_rates must not be empty")
+        for a in self.accelerations:
+            steps = a * self.dt / self.dv
+            if abs(steps - round(steps)) > 1e-6:
+                raise ValueError(f"LatticeSpec: acceleration {a} × dt {self.dt} = {a * self.dt:g} m/s is not a "
+                                 f"whole number of speed levels ({self.dv:g} m/s); change accelerations, dt or "
+                                 f"speed_levels in params.yaml (hj.planner.lattice)")
+
+    @property
+    def dv(self) -> float:
+        return self.v_max / (self.speed_levels - 1)
+
+    @property
+    def n_primitives(self) -> int:
+        return len(self.accelerations) * len(self.turn_rates)
+
+    @property
+    def controls(self) -> np.ndarray:
+        """(P, 2) (a, ω) of every primitive, accelerations outermost."""
+        return np.array([(a, w) for a in self.accelerations for w in self.turn_rates], dtype=np.float64)
+
+    def level(self, v: float) -> int:
+        k = v / self.dv
+        if abs(k - round(k)) > 1e-6 or not 0 <= round(k) < self.speed_levels:
+            raise ValueError(f"speed {v} m/s is not a lattice speed level (multiples of {self.dv:g} up to "
+                             f"{self.v_max:g}); start from one of them (e.g. 0)")
+        return round(k)
+
+
+def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int, v_max: float) -> np.ndarray:
+    """States after each of ``n`` equal sub-steps of holding (a, ω) from ``state`` (x, y, v, θ): (n, 4).
+
+    v moves linearly and is clipped to [0, v_max], θ moves linearly; the position uses the midpoint of
+    each sub-step (second order), the same rule the table is built with.
+    """
+    x, y, v, th = (float(s) for s in state)
+    h = duration / n
+    out = np.empty((n, 4))
+    for i in range(n):
+        v1 = min(max(v + a * h, 0.0), v_max)
+        th1 = th + omega * h
+        vm, tm = 0.5 * (v + v1), th + 0.5 * omega * h
+        x += h * vm * math.cos(tm)
+        y += h * vm * math.sin(tm)
+        v, th = v1, th1
+        out[i] = (x, y, v, th)
+    return out
+
+
+def primitive_table(spec: LatticeSpec) -> np.ndarray:
+    """(levels, P, samples, 4): body-frame (dx, dy, v, dθ) at each sample of every primitive per start level."""
+    controls, s, m = spec.controls, spec.samples_per_step, spec.micro_steps
+    table = np.empty((spec.speed_levels, len(controls), s, 4))
+    for k in range(spec.speed_levels):
+        for p, (a, w) in enumerate(controls):
+            fine = integrate(np.array([0.0, 0.0, k * spec.dv, 0.0]), a, w, spec.dt, s * m, spec.v_max)
+            table[k, p] = fine[m - 1::m]
+    table[:, :, -1, 2] = np.round(table[:, :, -1, 2] / spec.dv) * spec.dv  # end speeds exactly on a level
+    return table
+
+
+def densify(spec: LatticeSpec, start: np.ndarray, controls: np.ndarray, per_step: int = 32) -> np.ndarray:
+    """Replay a plan's controls from ``start`` with ``per_step`` sub-steps per primitive: (1 + K·per_step, 4).
+
+    With ``snap_states`` the search re-centres each node on its cell, so the replay does the same at every
+    node (the plan's states are the cell centres it moved between).
+    """
+    points = [np.asarray(start, dtype=np.float64)[None]]
+    state = np.asarray(start, dtype=np.float64)
+    for a, w in np.asarray(controls, dtype=np.float64).reshape(-1, 2):
+        seg = integrate(state, a, w, spec.dt, per_step, spec.v_max)
+        points.append(seg)
+        state = snap(spec, seg[-1]) if spec.snap_states else seg[-1]
+    return np.concatenate(points)
+
+
+def snap(spec: LatticeSpec, state: np.ndarray) -> np.ndarray:
+    """The centre of ``state``'s cell (speed to the nearest level, heading to its bin)."""
+    c, b = spec.cell_m, 2 * math.pi / spec.heading_bins
+    x, y, v, th = state
+    return np.array([(math.floor(x / c) + 0.5) * c, (math.floor(y / c) + 0.5) * c,
+                     round(v / spec.dv) * spec.dv, round(th / b) * b])
+
+
+def successor_samples(spec: LatticeSpec, table: np.ndarray, state: np.ndarray) -> np.ndarray:
+    """(P, S, 4) world-frame samples of every primitive from ``state``: what one expansion hands a pruner
+    (its last sample per primitive is the successor the heuristic sees)."""
+    x, y, v, th = (float(s) for s in state)
+    rows = table[spec.level(round(v / spec.dv) * spec.dv)]
+    c, s = math.cos(th), math.sin(th)
+    out = np.empty(rows.shape)
+    out[..., 0] = x + c * rows[..., 0] - s * rows[..., 1]
+    out[..., 1] = y + s * rows[..., 0] + c * rows[..., 1]
+    out[..., 2] = rows[..., 2]
+    out[..., 3] = th + rows[..., 3]
+    return out

@@ -1,0 +1,72 @@
+"""Plain-Python A* on the Dubins lattice (heapq + dict), the reference the compiled search is checked and
+timed against.
+
+Same lattice, same duplicate detection (one node per snapped cell, replaced and reopened when its g
+improves), same goal test and step cost as ``lattice_search``; the heuristic and the pruner are any
+batched callables (e.g. ``reach.lookup``'s numpy look-ups), called once per expansion with all
+successors, as a straightforward Python planner would. Readable top to bottom; no numba.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from navlab.search.dubins_lattice import LatticeSpec, primitive_table, successor_samples
+
+
+def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float, max_speed: float,
+                    heuristic: Callable[[np.ndarray], np.ndarray],
+                    prune: Callable[[np.ndarray], np.ndarray] | None = None,
+                    max_expansions: int = 10**6) -> tuple[float, int]:
+    """(cost, expansions) of A* from ``start`` to the goal disc; cost is inf when none is found.
+
+    ``heuristic``: (N, 4) states -> (N,) seconds; ``prune``: (N, S, 4) segments -> (N,) True = drop.
+    The step cost is ``dt`` (time).
+    """
+    if spec.snap_states:
+        raise ValueError("astar_reference follows the continuous-state lattice; use snap_states=False")
+    table = primitive_table(spec)
+    (_, x1), (_, y1) = bounds
+    bin_w = 2 * math.pi / spec.heading_bins
+
+    def cell(s):
+        return (math.floor(s[0] / spec.cell_m), math.floor(s[1] / spec.cell_m), round(s[2] / spec.dv),
+                round(s[3] / bin_w) % spec.heading_bins)
+
+    start = np.asarray(start, np.float64)
+    c0 = cell(start)
+    g = {c0: 0.0}
+    state = {c0: start}
+    h0 = float(heuristic(start[None])[0])
+    heap = [(h0, -0.0, c0)]
+    expansions = 0
+    while heap:
+        _, neg_g, c = heapq.heappop(heap)
+        if -neg_g != g[c]:
+            continue  # stale
+        s = state[c]
+        if math.hypot(s[0] - goal_xy[0], s[1] - goal_xy[1]) <= tolerance and s[2] <= max_speed + 1e-9:
+            return g[c], expansions
+        if expansions >= max_expansions:
+            break
+        expansions += 1
+        samples = successor_samples(spec, table, s)
+        samples[:, -1, 3] = (samples[:, -1, 3] + math.pi) % (2 * math.pi) - math.pi
+        ends = samples[:, -1]
+        inside = (ends[:, 0] >= 0) & (ends[:, 0] < x1) & (ends[:, 1] >= 0) & (ends[:, 1] < y1)
+        keep = inside & ~prune(samples) if prune is not None else inside
+        ng = g[c] + spec.dt
+        candidates = [(i, cell(ends[i])) for i in np.flatnonzero(keep)]
+        candidates = [(i, nc) for i, nc in candidates if ng < g.get(nc, math.inf)]
+        if not candidates:
+            continue
+        hs = heuristic(ends[[i for i, _ in candidates]])
+        for (i, nc), h in zip(candidates, hs, strict=True):
+            if ng < g.get(nc, math.inf):  # two primitives of one expansion may land in the same cell
+                g[nc], state[nc] = ng, ends[i].copy()
+                heapq.heappush(heap, (ng + float(h), -ng, nc))
+    return math.inf, expansions

@@ -1,0 +1,445 @@
+r"""A* and ANA* on the Dubins lattice, compiled with numba (HJ-search paper, Sec. VII; Algorithm 2).
+
+- **A\*** (Hart, Nilsson & Raphael 1968) with a node-expansion limit; a cell whose g improves is reopened,
+  so an admissible (not necessarily consistent) heuristic still returns the lattice optimum.
+- **ANA\*** (van den Berg, Shah, Huang & Goldberg, AAAI 2011): OPEN ordered by the largest
+  e(s) = (G − g(s)) / h(s) (a float, not SBPL's integer truncation, which loses the order between 1 and
+  2); before the first solution G = ∞ and the order is the smallest h (greedy). Successors are inserted
+  only when g + h < G; after each improving solution the states with e <= 1 (g + h >= G) are dropped and
+  the rest re-keyed. Every solution is recorded with the expansions and time it took and the bound
+  ε = G / min_OPEN(g + h) (1 when OPEN is empty: the last solution is optimal).
+
+The expansion loop, the look-ups (``lattice_fields``) and the heap are one compiled function: an
+expansion rotates the precomputed primitive table (``dubins_lattice``), checks the pruners on the
+``samples_per_step`` points of every segment and evaluates the heuristic of improved successors.
+The cost of a step is ``dt · (1 + w · c(x, y))`` with ``c`` an optional state-cost raster (the paper's
+Nav2 costmap term; w = 0 gives time, the paper's "state cost 1.0"), so time heuristics stay admissible.
+``lattice_reference.py`` is the plain-Python heapq twin that the tests and benchmarks compare against.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from navlab.search.dubins_lattice import LatticeSpec, primitive_table
+from navlab.search.lattice_fields import (
+    H_ZERO,
+    S_NONE,
+    U_NONE,
+    GridField,
+    heuristic,
+    heuristic_batch,
+    human_prune_batch,
+    human_prunes,
+    interp,
+    static_prune_batch,
+    static_value,
+    static_value_batch,
+)
+
+FOUND, EXPANSION_LIMIT, TIME_LIMIT, NO_PATH = 0, 1, 2, 3
+STATUS = {FOUND: "found", EXPANSION_LIMIT: "expansion limit", TIME_LIMIT: "time limit", NO_PATH: "no path"}
+MAX_SOLUTIONS = 512
+
+
+@dataclass(frozen=True)
+class Heuristic:
+    """What the compiled search evaluates as h: a kind code (``lattice_fields.H_*``), a field and par."""
+
+    kind: int
+    field: GridField
+    par: np.ndarray  # [goal_x, goal_y, goal_heading, v_max, tolerance, off_grid_value]
+    name: str = ""
+
+    def __call__(self, states: np.ndarray) -> np.ndarray:
+        """h at (N, 4) states in one compiled call: (N,) seconds."""
+        return heuristic_batch(self.kind, self.field, self.par, _states(states))
+
+
+@dataclass(frozen=True)
+class StaticPruner:
+    kind: int
+    field: GridField
+    par: np.ndarray  # [radius or margin, value off the grid]
+    name: str = ""
+
+    def __call__(self, samples: np.ndarray) -> np.ndarray:
+        """(N, S, 4) segment samples (all successors of one expansion) -> (N,) True where pruned."""
+        return static_prune_batch(self.kind, self.field, self.par, _segments(samples))
+
+    def values(self, states: np.ndarray) -> np.ndarray:
+        """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
+        return static_value_batch(self.kind, self.field, self.par, _states(states))
+
+
+@dataclass(frozen=True)
+class HumanPruner:
+    kind: int
+    field: GridField
+    par: np.ndarray  # see lattice_fields.human_value
+    humans: np.ndarray  # (H, 2) human positions, fixed during one search (prediction-free)
+    name: str = ""
+
+    def __call__(self, parents: np.ndarray, samples: np.ndarray) -> np.ndarray:
+        """parents (N, 4), segment samples (N, S, 4) -> (N,) True where a human makes the step unsafe."""
+        return human_prune_batch(self.kind, self.field, self.par, np.ascontiguousarray(self.humans, np.float64),
+                                 _states(parents), _segments(samples))
+
+
+def _states(states) -> np.ndarray:
+    states = np.ascontiguousarray(states, dtype=np.float64)
+    if states.ndim != 2 or states.shape[1] != 4:
+        raise ValueError(f"states must be (N, 4) (x, y, v, θ), got {states.shape}")
+    return states
+
+
+def _segments(samples) -> np.ndarray:
+    samples = np.ascontiguousarray(samples, dtype=np.float64)
+    if samples.ndim != 3 or samples.shape[2] != 4:
+        raise ValueError(f"segment samples must be (N, S, 4) (x, y, v, θ), got {samples.shape}")
+    return samples
+
+
+NO_STATIC = StaticPruner(S_NONE, GridField.empty(2), np.zeros(2), "none")
+NO_HUMAN = HumanPruner(U_NONE, GridField.empty(3), np.zeros(10), np.zeros((0, 2)), "none")
+
+
+@dataclass(frozen=True)
+class Goal:
+    xy: tuple[float, float]
+    tolerance: float  # m: reached when |p - goal| <= tolerance ...
+    max_speed: float  # ... and v <= max_speed (the paper's speed limit at the goal)
+
+
+@dataclass(frozen=True)
+class Costmap:
+    """Step cost dt · (1 + weight · c(x, y)); ``field`` a 2D raster of c >= 0 (None: pure time)."""
+
+    field: GridField | None = None
+    weight: float = 0.0
+
+
+@dataclass
+class SearchResult:
+    status: str
+    cost: float  # of the returned plan (inf when none)
+    expansions: int  # in total
+    controls: np.ndarray  # (K, 2) (a, ω) per step of the returned plan
+    states: np.ndarray  # (K + 1, 4) lattice states along it
+    seconds: float
+    heuristic_evals: int = 0
+    pruner_evals: int = 0  # segment samples checked (each pruner call checks samples_per_step of them)
+    # ANA*: every improving solution, in order
+    solution_expansions: list[int] = field(default_factory=list)
+    solution_seconds: list[float] = field(default_factory=list)
+    solution_costs: list[float] = field(default_factory=list)
+    solution_bounds: list[float] = field(default_factory=list)
+
+    @property
+    def found(self) -> bool:
+        return math.isfinite(self.cost)
+
+    @property
+    def first_solution_expansions(self) -> int | None:
+        return self.solution_expansions[0] if self.solution_expansions else None
+
+
+@numba.njit(cache=True)
+def _now():
+    with numba.objmode(t="f8"):
+        t = time.perf_counter()
+    return t
+
+
+@numba.njit(cache=True)
+def _less(ka, kb, ga, gb):
+    return ka < kb or (ka == kb and ga > gb)  # ties: deeper node first
+
+
+@numba.njit(cache=True)
+def _push(heap_k, heap_g, heap_c, n, k, g, c):
+    if n == heap_k.shape[0]:
+        heap_k = np.concatenate((heap_k, np.empty_like(heap_k)))
+        heap_g = np.concatenate((heap_g, np.empty_like(heap_g)))
+        heap_c = np.concatenate((heap_c, np.empty_like(heap_c)))
+    i = n
+    while i > 0:
+        p = (i - 1) >> 1
+        if not _less(k, heap_k[p], g, heap_g[p]):
+            break
+        heap_k[i], heap_g[i], heap_c[i] = heap_k[p], heap_g[p], heap_c[p]
+        i = p
+    heap_k[i], heap_g[i], heap_c[i] = k, g, c
+    return heap_k, heap_g, heap_c, n + 1
+
+
+@numba.njit(cache=True)
+def _pop(heap_k, heap_g, heap_c, n):
+    top_g, top_c = heap_g[0], heap_c[0]
+    n -= 1
+    k, g, c = heap_k[n], heap_g[n], heap_c[n]
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= n:
+            break
+        if child + 1 < n and _less(heap_k[child + 1], heap_k[child], heap_g[child + 1], heap_g[child]):
+            child += 1
+        if not _less(heap_k[child], k, heap_g[child], g):
+            break
+        heap_k[i], heap_g[i], heap_c[i] = heap_k[child], heap_g[child], heap_c[child]
+        i = child
+    heap_k[i], heap_g[i], heap_c[i] = k, g, c
+    return top_g, top_c, n
+
+
+@numba.njit(cache=True)
+def _ana_key(G, g, h):
+    """Min-heap key of ANA*: −e(s) once a solution exists, h before (G = ∞: greedy on h)."""
+    if G == np.inf:
+        return h
+    if h <= 0.0:
+        return -np.inf if g < G else 0.0
+    return -(G - g) / h
+
+
+@numba.njit(cache=True)
+def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sp, uk, uf, up, humans,
+            use_cost, cf, cost_w, max_expansions, time_limit):
+    nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
+    n_prim, n_samp = table.shape[1], table.shape[2]
+    n_cells = nx * ny * nlev * nbins
+    g = np.full(n_cells, np.inf)
+    hval = np.zeros(n_cells)
+    st = np.empty((n_cells, 4))
+    parent = np.full(n_cells, -1, np.int64)
+    prim = np.full(n_cells, -1, np.int32)
+    heap_k = np.empty(1 << 14)
+    heap_g = np.empty(1 << 14)
+    heap_c = np.empty(1 << 14, np.int64)
+    n_heap = 0
+    samples = np.empty((n_samp, 4))
+    bin_w = 2.0 * math.pi / nbins
+    v_top = goal[4]  # the lattice's v_max
+    t0 = _now()
+    hv, hlo, hinv, hsh, hper, hstr = hf
+    sv, slo, sinv, ssh, sper, sstr = sf
+    uv, ulo, uinv, ush, uper, ustr = uf
+    cv, clo, cinv, csh, cper, cstr = cf
+
+    def cell_of(x, y, v, th):
+        ix = math.floor(x / cell_m)
+        iy = math.floor(y / cell_m)
+        if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
+            return -1
+        lev = round(v / v_top * (nlev - 1))
+        b = round(th / bin_w) % nbins
+        return ((ix * ny + iy) * nlev + lev) * nbins + b
+
+    c0 = cell_of(start[0], start[1], start[2], start[3])
+    g[c0] = 0.0
+    st[c0] = start
+    h0 = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, start[0], start[1], start[2], start[3])
+    hval[c0] = h0
+    G = np.inf
+    E = np.inf
+    heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, _ana_key(G, 0.0, h0) if anytime
+                                           else h0, 0.0, c0)
+    sol_exp = np.zeros(MAX_SOLUTIONS, np.int64)
+    sol_t = np.zeros(MAX_SOLUTIONS)
+    sol_G = np.zeros(MAX_SOLUTIONS)
+    sol_bound = np.zeros(MAX_SOLUTIONS)
+    sol_cell = np.zeros(MAX_SOLUTIONS, np.int64)
+    n_sol = 0
+    expansions = 0
+    h_evals = 1
+    p_evals = 0
+    status = NO_PATH
+    goal_cell = -1
+    while n_heap > 0:
+        gk, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
+        if gk != g[cur]:
+            continue  # stale entry: the cell was improved since
+        if anytime and g[cur] + hval[cur] >= G:
+            continue  # e <= 1: cannot improve on G
+        s = st[cur]
+        dx, dy = s[0] - goal[0], s[1] - goal[1]
+        if dx * dx + dy * dy <= goal[2] * goal[2] and s[2] <= goal[3] + 1e-9:
+            goal_cell = cur
+            if not anytime:
+                status = FOUND
+                break
+            G = g[cur]
+            # drop e <= 1, re-key the rest, and the bound: G / min(g + h) over what stays open
+            m = 0
+            lo = np.inf
+            for i in range(n_heap):
+                c = heap_c[i]
+                if heap_g[i] == g[c] and g[c] + hval[c] < G:
+                    heap_k[m], heap_g[m], heap_c[m] = _ana_key(G, g[c], hval[c]), heap_g[i], c
+                    lo = min(lo, g[c] + hval[c])
+                    m += 1
+            n_heap = 0
+            kk, gg, cc = heap_k[:m].copy(), heap_g[:m].copy(), heap_c[:m].copy()
+            for i in range(m):
+                heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, kk[i], gg[i], cc[i])
+            if n_sol < MAX_SOLUTIONS:
+                sol_exp[n_sol], sol_t[n_sol], sol_G[n_sol] = expansions, _now() - t0, G
+                sol_bound[n_sol] = G / lo if m > 0 and lo > 0 else 1.0
+                sol_cell[n_sol] = cur
+                n_sol += 1
+            status = FOUND
+            continue
+        if expansions >= max_expansions:
+            status = EXPANSION_LIMIT if goal_cell < 0 else FOUND
+            break
+        if (expansions & 255) == 0 and _now() - t0 > time_limit:
+            status = TIME_LIMIT if goal_cell < 0 else FOUND
+            break
+        expansions += 1
+        if anytime and G < np.inf and hval[cur] > 0.0:
+            E = min(E, (G - g[cur]) / hval[cur])
+        lev = round(s[2] / v_top * (nlev - 1))
+        cth, sth = math.cos(s[3]), math.sin(s[3])
+        for p in range(n_prim):
+            for j in range(n_samp):
+                row = table[lev, p, j]
+                samples[j, 0] = s[0] + cth * row[0] - sth * row[1]
+                samples[j, 1] = s[1] + sth * row[0] + cth * row[1]
+                samples[j, 2] = row[2]
+                samples[j, 3] = s[3] + row[3]
+            end = samples[n_samp - 1]
+            if snap:
+                end[0] = (math.floor(end[0] / cell_m) + 0.5) * cell_m
+                end[1] = (math.floor(end[1] / cell_m) + 0.5) * cell_m
+                end[3] = round(end[3] / bin_w) * bin_w
+            end[3] = (end[3] + math.pi) % (2.0 * math.pi) - math.pi
+            nc = cell_of(end[0], end[1], end[2], end[3])
+            if nc < 0:
+                continue
+            step = dt
+            if use_cost:
+                step = dt * (1.0 + cost_w * interp(cv, clo, cinv, csh, cper, cstr, end[0], end[1], 0.0, 0.0))
+            ng = g[cur] + step
+            if ng >= g[nc]:
+                continue
+            if sk != S_NONE:
+                bad = False
+                for j in range(n_samp):
+                    p_evals += 1
+                    if static_value(sk, sv, slo, sinv, ssh, sper, sstr, sp, samples[j, 0], samples[j, 1], samples[j, 2], samples[j, 3]) <= 0.0:
+                        bad = True
+                        break
+                if bad:
+                    continue
+            if uk != U_NONE and human_prunes(uk, uv, ulo, uinv, ush, uper, ustr, up, humans, s, samples, n_samp):
+                continue
+            h = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, end[0], end[1], end[2], end[3])
+            h_evals += 1
+            if anytime and ng + h >= G:
+                continue
+            g[nc] = ng
+            hval[nc] = h
+            st[nc] = end
+            parent[nc] = cur
+            prim[nc] = p
+            key = _ana_key(G, ng, h) if anytime else ng + h
+            heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, key, ng, nc)
+    # the returned plan: the parent chain of the (last) goal cell, as primitive indices from the start
+    n_path = 0
+    c = goal_cell
+    while c >= 0 and c != c0:
+        n_path += 1
+        c = parent[c]
+    prims = np.empty(n_path, np.int32)
+    c = goal_cell
+    for i in range(n_path - 1, -1, -1):
+        prims[i] = prim[c]
+        c = parent[c]
+    return (status, expansions, h_evals, p_evals, prims, sol_exp[:n_sol].copy(), sol_t[:n_sol].copy(),
+            sol_G[:n_sol].copy(), sol_bound[:n_sol].copy(), _now() - t0)
+
+
+def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
+    (x0, x1), (y0, y1) = bounds
+    if x0 != 0.0 or y0 != 0.0:
+        raise ValueError(f"lattice bounds must start at the origin (rooms do); got {bounds}")
+    return np.array([math.ceil(x1 / spec.cell_m), math.ceil(y1 / spec.cell_m), spec.speed_levels,
+                     spec.heading_bins], np.int64)
+
+
+def replay(spec: LatticeSpec, table: np.ndarray, start: np.ndarray, prims: np.ndarray,
+           costmap: Costmap = Costmap()) -> tuple[np.ndarray, float]:
+    """States and cost of following primitive indices from ``start`` (the same arithmetic as the search)."""
+    states = [np.asarray(start, np.float64)]
+    cost = 0.0
+    bin_w = 2 * math.pi / spec.heading_bins
+    for p in prims:
+        x, y, v, th = states[-1]
+        row = table[spec.level(round(v / spec.dv) * spec.dv), p, -1]
+        c, s = math.cos(th), math.sin(th)
+        end = np.array([x + c * row[0] - s * row[1], y + s * row[0] + c * row[1], row[2], th + row[3]])
+        if spec.snap_states:
+            end[0] = (math.floor(end[0] / spec.cell_m) + 0.5) * spec.cell_m
+            end[1] = (math.floor(end[1] / spec.cell_m) + 0.5) * spec.cell_m
+            end[3] = round(end[3] / bin_w) * bin_w
+        end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
+        states.append(end)
+        w = 0.0 if costmap.field is None else costmap.weight * float(interp(*costmap.field, end[0], end[1], 0.0, 0.0))
+        cost += spec.dt * (1.0 + w)
+    return np.array(states), cost
+
+
+def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *,
+           static: StaticPruner = NO_STATIC, human: HumanPruner = NO_HUMAN, costmap: Costmap = Costmap(),
+           anytime: bool = False, max_expansions: int = 10**6, time_limit_s: float = math.inf,
+           table: np.ndarray | None = None) -> SearchResult:
+    """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)).
+
+    ``anytime=False``: A* until the goal is popped or ``max_expansions``. ``anytime=True``: ANA* until
+    OPEN is empty (the last solution is optimal), ``max_expansions`` or ``time_limit_s``.
+    """
+    start = np.asarray(start, np.float64)
+    if start.shape != (4,) or not np.isfinite(start).all():
+        raise ValueError(f"start must be a finite (x, y, v, θ), got {start!r}")
+    spec.level(start[2])
+    dims = _dims(spec, bounds)
+    (_, x1), (_, y1) = bounds
+    for name, (x, y) in (("start", start[:2]), ("goal", goal.xy)):
+        if not (0.0 <= x < x1 and 0.0 <= y < y1):
+            raise ValueError(f"{name} {(float(x), float(y))} is outside the map [0, {x1}) × [0, {y1}); "
+                             f"choose a position inside it")
+    if static.kind != S_NONE:
+        clearance = float(static.values(start[None])[0])
+        if clearance <= 0.0:
+            raise ValueError(f"start {tuple(start.round(3))} is already pruned by the {static.name or 'static'} "
+                             f"pruner (value {clearance:.3f} <= 0: in collision or inside the BRT); move the start")
+    if spec.snap_states:
+        from navlab.search.dubins_lattice import snap
+
+        start = snap(spec, start)
+    table = primitive_table(spec) if table is None else table
+    goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
+    cf = costmap.field if costmap.field is not None else GridField.empty(2)
+    out = _search(anytime, start, goal_arr, table, spec.dt, spec.cell_m, dims, spec.snap_states,
+                  heuristic_.kind, heuristic_.field, heuristic_.par, static.kind, static.field, static.par,
+                  human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64),
+                  costmap.field is not None, cf, float(costmap.weight), int(max_expansions), float(time_limit_s))
+    status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
+    found = status == FOUND
+    states, cost = replay(spec, table, start, prims, costmap) if found else (start[None], math.inf)
+    return SearchResult(
+        status=STATUS[status], cost=cost, expansions=int(expansions),
+        controls=spec.controls[prims] if found else np.zeros((0, 2)), states=states, seconds=float(secs),
+        heuristic_evals=int(h_evals), pruner_evals=int(p_evals),
+        solution_expansions=[int(e) for e in s_exp], solution_seconds=[float(t) for t in s_t],
+        solution_costs=[float(c) for c in s_g], solution_bounds=[float(b) for b in s_b])
+
+
+def zero_heuristic() -> Heuristic:
+    return Heuristic(H_ZERO, GridField.empty(2), np.zeros(6), "zero")
