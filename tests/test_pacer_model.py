@@ -12,13 +12,13 @@ from navlab.core.params import load_params
 from navlab.core.seeding import rng
 from navlab.pacer.baselines.semantic_classifier import train_classifier
 from navlab.pacer.baselines.sterling import SterlingEncoder, augment, train_sterling, vicreg_loss
+from navlab.pacer.checkpoints import read_summary
 from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import build_model
 from navlab.pacer.train import (
     cosine_lr,
     epoch_draws,
     load_model,
-    read_summary,
     resolve_device,
     train_phase,
     validation_loss,

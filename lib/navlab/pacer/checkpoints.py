@@ -1,11 +1,12 @@
 """Trained PACER networks on disk: the weights beside what rebuilds the architecture, written atomically.
 
 One format for the PACER phases and both baselines, so every loader names the DVC stage that builds
-a missing file in the same way.
+a missing file in the same way; ``read_summary`` reads the training summary written beside them.
 """
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -33,3 +34,13 @@ def load_network(path: str | Path, build: Callable[[dict[str, Any]], nn.Module],
     model = build(saved).to(device)
     model.load_state_dict(saved["weights"])
     return model.eval()
+
+
+def read_summary(folder: str | Path) -> dict[str, Any]:
+    """A trained network's ``summary.json`` (phases: best epoch, its validation loss, the entropy floor;
+    classifier: best epoch and held-out accuracy), written beside it by its DVC stage."""
+    path = Path(folder) / "summary.json"
+    if not path.is_file():
+        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
+                        f"pacer_{Path(folder).name}` (or `dvc repro`)")
+    return json.loads(path.read_text())

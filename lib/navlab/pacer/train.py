@@ -17,7 +17,6 @@ validation loss beside the entropy floor of the validation targets).
 from __future__ import annotations
 
 import dataclasses
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -26,7 +25,7 @@ import torch
 from torch.utils.data import DataLoader, Dataset
 from tqdm.auto import tqdm
 
-from navlab.core.io import DataError, atomic_path, sha256_file, sha256_json, write_json, write_text
+from navlab.core.io import atomic_path, sha256_file, sha256_json, write_json, write_text
 from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
 from navlab.pacer.checkpoints import load_network
@@ -228,11 +227,3 @@ def train_phase(
           model_path)
     return model_path
 
-
-def read_summary(phase_dir: str | Path) -> dict:
-    """A trained phase's ``summary.json`` (best epoch, its validation loss, the entropy floor)."""
-    path = Path(phase_dir) / "summary.json"
-    if not path.is_file():
-        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
-                        f"pacer_{Path(phase_dir).name}` (or `dvc repro`)")
-    return json.loads(path.read_text())
