@@ -51,7 +51,7 @@ def test_paired_difference_cancels_what_the_maps_share():
 def test_seen_and_unseen_verdicts_follow_the_paired_intervals():
     gen = rng(1, "maps")
     base = gen.uniform(0.3, 0.7, 24)
-    noise = lambda s: 0.01 * rng(s, "noise").standard_normal(24)  # noqa: E731
+    noise = lambda s: 0.01 * rng(s, "noise").standard_normal(24)
     seen = {"PACER": shares(base + noise(1)), "STERLING-style": shares(base + noise(2)),
             "PACER (uninformative context)": shares(base - 0.3 + noise(3)), "Classifier": shares(base + noise(4))}
     par, prior = seen_claims(seen)
