@@ -125,7 +125,7 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
     in_view = np.unique(labels[fov])
     ordering = order_terrains(in_view, recipe.preference, bank, rng)
     if recipe.informative and recipe.context == "superset":
-        pool = np.concatenate([bank.ids(recipe.terrains), bank.ids("synthetic") if recipe.synthetic else []])
+        pool = np.concatenate([bank.ids(g) for g in (recipe.terrains, "synthetic")[: 1 + recipe.synthetic]])
         drawn = order_terrains(superset_terrains(in_view, pool, params.context_extra, rng), recipe.preference,
                                bank, rng)
         ordering = drawn[np.isin(drawn, in_view)]  # the target ranks the terrains in view, in the same order
