@@ -16,9 +16,9 @@ from navlab.metrics.cost_tiers import cost_tier_proportions
 from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.aerial import aerial_map, aerial_maps, semantic_map_regions
 from navlab.pacer.bev import fov_mask
-from navlab.pacer.context import preference_context, preference_pairs, stack_context
+from navlab.pacer.context import preference_context, preference_pairs, stack_context, superset_terrains
 from navlab.pacer.datasets import PacerDataset, Recipe, evaluation_dataset, max_terrains, pacer_dataset
-from navlab.pacer.preferences import IGNORE, order_terrains, rank_costs, target_costmap, tier_table
+from navlab.pacer.preferences import IGNORE, environment_tiers, order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import load_terrain_bank
 
 
@@ -40,11 +40,10 @@ def test_bank_split_is_disjoint_and_documented(bank, smoke_params):
     assert not (seen & unseen or seen & synthetic or unseen & synthetic)
     assert len(seen | unseen | synthetic) == len(bank)
     assert [bank.names[i] for i in sorted(seen)] == list(data.seen)
-    # realistic ranks follow params; tiers are contiguous in it; synthetic terrains have neither
+    # realistic ranks follow params; synthetic terrains have none
     ranked = np.argsort(np.where(bank.realistic_rank >= 0, bank.realistic_rank, 99))[: len(seen | unseen)]
     assert [bank.names[i] for i in ranked] == list(data.realistic_ordering)
-    assert (bank.realistic_rank[list(synthetic)] == -1).all() and (bank.tier[list(synthetic)] == -1).all()
-    assert (np.diff(bank.tier[ranked]) >= 0).all()
+    assert (bank.realistic_rank[list(synthetic)] == -1).all()
 
 
 def test_bank_parts_are_disjoint_strips_and_loading_is_deterministic(bank, smoke_data, smoke_params):
@@ -62,9 +61,6 @@ def test_inconsistent_split_is_one_clear_error(smoke_data, smoke_params):
     broken = dataclasses.replace(data, realistic_ordering=data.realistic_ordering[1:])
     with pytest.raises(ParamsError, match="realistic_ordering"):
         load_terrain_bank(smoke_data, broken)
-    swapped = dict(data.tiers, low=data.tiers["high"], high=data.tiers["low"])
-    with pytest.raises(ParamsError, match="tiers: every 'low' class must come before"):
-        load_terrain_bank(smoke_data, dataclasses.replace(data, tiers=swapped))
     crowded = dataclasses.replace(data, layout=dataclasses.replace(data.layout, regions=(2, 8)))
     with pytest.raises(ParamsError, match="pacer.data.seen: 8 classes, but a BEV image can show 9 terrains"):
         load_terrain_bank(smoke_data, crowded)
@@ -94,10 +90,20 @@ def test_target_costmap_maps_each_label_by_its_rank():
         target_costmap(labels, np.array([2, 9, 4, 2]))
 
 
-def test_tier_table_inverts_low_and_high(bank):
-    realistic, inverted = tier_table(bank, "realistic"), tier_table(bank, "inverted")
-    ranked = bank.tier >= 0
-    assert (realistic[ranked] + inverted[ranked] == 2).all() and (inverted[~ranked] == -1).all()
+def test_tiers_come_from_each_environments_own_ordering():
+    # a two-terrain environment has one low and one high terrain, whatever their global ranks
+    two = environment_tiers(np.array([9, 4]), 12)
+    assert two[9] == 0 and two[4] == 2 and (np.delete(two, [4, 9]) == -1).all()
+    assert environment_tiers(np.array([3, 1, 7]), 8)[[3, 1, 7]].tolist() == [0, 1, 2]
+    for count in range(1, 9):  # thirds of the ranks; inverting the ordering swaps low and high
+        ordering = rng(count, "tiers").permutation(20)[:count]
+        tiers, inverted = environment_tiers(ordering, 20), environment_tiers(ordering[::-1], 20)
+        assert (np.diff(tiers[ordering]) >= 0).all() and tiers[ordering[0]] == 0
+        assert (tiers[ordering] + inverted[ordering] == 2).all() or count == 1
+        costs = rank_costs(ordering)
+        assert (tiers[ordering][costs < 1 / 3 - 1e-9] == 0).all() and (tiers[ordering][costs > 2 / 3 + 1e-9] == 2).all()
+    with pytest.raises(ValueError, match="distinct terrain ids"):
+        environment_tiers(np.array([2, 2]), 5)
 
 
 # --- preference contexts -------------------------------------------------------------------------------
@@ -123,6 +129,24 @@ def test_preference_pairs_follow_the_ordering():
         assert len({tuple(p) for p in pairs}) == 3  # without replacement while there are enough pairs
     assert (preference_pairs(np.array([4, 8]), 3, rng(0)) == [4, 8]).all()  # L = 2: one pair, repeated
     assert (preference_pairs(np.array([6]), 3, rng(0)) == 6).all()  # L = 1: no preference to express
+
+
+def test_superset_contexts_name_every_terrain_in_view_when_n_allows():
+    candidates = np.arange(10)
+    for seed in range(30):
+        gen = rng(seed, "superset")
+        in_view = gen.choice(10, size=int(gen.integers(1, 5)), replace=False)
+        terrains = superset_terrains(in_view, candidates, 2, gen)
+        assert set(in_view) <= set(terrains.tolist()) and len(terrains) == len(in_view) + 2
+        ordering = gen.permutation(terrains)
+        position = {int(t): i for i, t in enumerate(ordering)}
+        pairs = preference_pairs(ordering, 3, gen, cover=in_view)
+        assert all(position[a] < position[b] for a, b in pairs)
+        assert set(in_view.tolist()) <= set(pairs.ravel().tolist())  # 1-4 terrains in view fit in 3 pairs
+    many = np.arange(8)  # 8 to cover with 3 pairs: 6 of them are named, none twice in the covering pairs
+    assert len(set(preference_pairs(many, 3, rng(0), cover=many).ravel().tolist())) == 6
+    with pytest.raises(ValueError, match="does not rank"):
+        preference_pairs(np.array([1, 2]), 3, rng(0), cover=np.array([5]))
 
 
 def test_context_patches_come_from_the_real_bank(bank, smoke_params):

@@ -12,9 +12,17 @@ from navlab.core.params import load_params
 from navlab.core.seeding import rng
 from navlab.pacer.baselines.semantic_classifier import train_classifier
 from navlab.pacer.baselines.sterling import SterlingEncoder, augment, train_sterling, vicreg_loss
+from navlab.pacer.checkpoints import read_summary
 from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import build_model
-from navlab.pacer.train import epoch_draws, load_model, train_phase
+from navlab.pacer.train import (
+    cosine_lr,
+    epoch_draws,
+    load_model,
+    resolve_device,
+    train_phase,
+    validation_loss,
+)
 
 H, W, PATCH = 32, 32, 8
 COLOURS = {0: (0.8, 0.2, 0.2), 1: (0.2, 0.3, 0.9), 2: (0.2, 0.8, 0.3)}  # three flat, noisy "terrains"
@@ -105,6 +113,41 @@ def test_context_changes_the_costmap(smoke):
     assert not torch.allclose(out_a, out_b)
 
 
+def test_early_stopping_keeps_the_best_validation_checkpoint(smoke, tmp_path):
+    cfg = tiny_train_cfg(smoke, lr=0.05, patience=2, lr_final_fraction=0.5)
+    train, val = TinyTerrainSet(16), TinyTerrainSet(6, seed=1)
+    path = train_phase(smoke.model, cfg, [train], [val], tmp_path, phase="phase1", epochs=12, seed=0, progress=False)
+    log = np.loadtxt(tmp_path / "val_loss.tsv", skiprows=1, ndmin=2)
+    summary = read_summary(tmp_path)
+    best = int(np.argmin(log[:, 2]))
+    assert summary["best_epoch"] == best + 1 and summary["best_val_loss"] == pytest.approx(log[best, 2], abs=1e-6)
+    # the saved model is the best epoch's, not the last one's (the last epochs are worse when it stopped)
+    assert validation_loss(load_model(path), [val], 4) == pytest.approx(log[best, 2], rel=1e-5)
+    if summary["stopped_early"]:
+        assert len(log) - summary["best_epoch"] == cfg.patience and log[-1, 2] > log[best, 2]
+    else:
+        assert len(log) == 12
+    # BCE against soft targets is bounded below by their entropy: here 1/2-cost pixels give ln 2 each
+    pixels = [(it["costmap"][it["fov_mask"]]) for it in (val[i] for i in range(len(val)))]
+    half = np.mean(np.concatenate(pixels) == 0.5)
+    assert summary["entropy_floor"] == pytest.approx(half * np.log(2), rel=1e-6)
+    assert summary["best_val_loss"] >= summary["entropy_floor"]
+
+
+def test_cosine_learning_rate_decays_to_the_final_fraction():
+    assert cosine_lr(0, 100, 0.01, 0.1) == pytest.approx(0.01)
+    assert cosine_lr(50, 100, 0.01, 0.1) == pytest.approx(0.01 * (0.1 + 0.9 * 0.5))
+    assert cosine_lr(100, 100, 0.01, 0.1) == pytest.approx(0.001)
+    assert all(np.diff([cosine_lr(k, 100, 0.01, 0.0) for k in range(101)]) <= 0)
+
+
+def test_asking_for_cuda_without_a_gpu_is_one_clear_error(monkeypatch):
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
+    with pytest.raises(ValueError, match="sees no CUDA GPU"):
+        resolve_device("cuda")
+    assert resolve_device("cpu").type == "cpu"
+
+
 def test_epoch_draws_cover_every_dataset_and_repeat():
     draws = epoch_draws([5, 100], 400, seed=0, phase="phase2", epoch=3)
     which = np.array([d for d, _ in draws])
@@ -170,9 +213,11 @@ def test_phase_two_starts_from_phase_one_weights(smoke, tmp_path):
 
 def test_semantic_classifier_separates_terrains(smoke):
     data = [TinyTerrainSet(12)]
-    cfg = dataclasses.replace(smoke.baselines.classifier, epochs=3, patches_per_epoch=96, batch_size=16, lr=0.01)
-    model = train_classifier(data, cfg, PATCH, seed=0, progress=False)
+    cfg = dataclasses.replace(smoke.baselines.classifier, epochs=3, patches_per_epoch=96, batch_size=16, lr=0.01,
+                              val_patches=64)
+    model, summary = train_classifier(data, cfg, PATCH, seed=0, progress=False, val_datasets=[TinyTerrainSet(6, seed=3)])
     assert set(model.labels) <= {0, 1, 2}
+    assert 1 <= summary["best_epoch"] <= 3 and summary["val_accuracy"] > 0.9
     item = TinyTerrainSet(4, seed=7)[0]
     predicted = model.label_map(torch.as_tensor(item["image"])).numpy()
     split = int(np.argmax(item["labels"][0] != item["labels"][0, 0]))

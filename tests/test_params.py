@@ -15,7 +15,7 @@ def _write(tmp_path, mutate):
     return path
 
 
-@pytest.mark.parametrize("profile", ["smoke", "default", "paper"])
+@pytest.mark.parametrize("profile", ["smoke", "default", "gpu", "paper"])
 def test_every_profile_validates(profile):
     assert load_params(profile).profile == profile
 

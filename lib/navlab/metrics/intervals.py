@@ -1,8 +1,12 @@
-"""95% intervals for the benchmark's numbers: the paper reports single numbers, ours say how sure they are.
+"""95% confidence intervals for figures computed from a sample (DESIGN.md report contract).
 
-Means over environments get a percentile bootstrap (Efron & Tibshirani 1993), resampling environments
-with replacement, vectorised as one (B, n) index draw; success rates get the Wilson score interval,
-which stays inside [0, 1] and is sensible at 100% success (where a bootstrap collapses to a point).
+A table cell that averages over environments carries a percentile-bootstrap interval over those
+environments (Efron and Tibshirani, "An Introduction to the Bootstrap", 1993, ch. 13): resample the
+environments with replacement, recompute the mean, take the 2.5th and 97.5th percentiles. A paired
+difference (method A minus method B on the same environments) is bootstrapped the same way, which is
+what says whether A beats B rather than whether their two intervals happen to overlap. A success rate
+gets the Wilson score interval, which stays inside [0, 1] and is sensible at 100% success (where a
+bootstrap collapses to a point).
 """
 
 from __future__ import annotations
@@ -10,20 +14,38 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
+LEVEL = 0.95
+RESAMPLES = 2000
 
-def bootstrap_mean_ci(values, rng: np.random.Generator, samples: int, level: float = 0.95) -> tuple[float, float]:
-    """Percentile bootstrap interval of the mean of ``values`` (one per environment); NaN entries are
-    an error (a metric that does not exist for an environment must be left out by the caller)."""
-    values = np.asarray(values, dtype=float).ravel()
-    if values.size == 0:
-        raise ValueError("bootstrap_mean_ci: no values (no environments were measured)")
+
+def bootstrap_mean_ci(values: np.ndarray, rng: np.random.Generator, resamples: int = RESAMPLES,
+                      level: float = LEVEL) -> tuple[float, float]:
+    """(lo, hi) percentile-bootstrap interval of the mean of ``values`` (one number per environment)."""
+    values = np.asarray(values, dtype=np.float64).ravel()
+    if len(values) == 0:
+        raise ValueError("bootstrap_mean_ci needs at least one value (one per environment)")
     if not np.isfinite(values).all():
-        raise ValueError("bootstrap_mean_ci: values hold NaN or inf; drop undefined environments first")
-    if samples < 1 or not 0 < level < 1:
-        raise ValueError(f"bootstrap_mean_ci: samples {samples} must be >= 1 and level {level} in (0, 1)")
-    means = values[rng.integers(values.size, size=(samples, values.size))].mean(axis=1)
-    tail = (1 - level) / 2
-    lo, hi = np.quantile(means, [tail, 1 - tail])
+        raise ValueError("bootstrap_mean_ci: values must be finite; drop or report missing environments first")
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"level {level}: a confidence level lies strictly between 0 and 1")
+    means = values[rng.integers(0, len(values), size=(resamples, len(values)))].mean(axis=1)
+    tail = 100.0 * (1.0 - level) / 2.0
+    lo, hi = np.percentile(means, [tail, 100.0 - tail])
+    return float(lo), float(hi)
+
+
+def bootstrap_ratio_ci(numerators: np.ndarray, denominators: np.ndarray, rng: np.random.Generator,
+                       resamples: int = RESAMPLES, level: float = LEVEL) -> tuple[float, float]:
+    """(lo, hi) percentile-bootstrap interval of sum(numerators) / sum(denominators), resampling the
+    units (e.g. images, each contributing several correlated pair comparisons) with replacement."""
+    num = np.asarray(numerators, dtype=np.float64).ravel()
+    den = np.asarray(denominators, dtype=np.float64).ravel()
+    if len(num) != len(den) or len(num) == 0 or den.sum() <= 0:
+        raise ValueError("bootstrap_ratio_ci needs equally many numerators and denominators, with a positive total")
+    draws = rng.integers(0, len(num), size=(resamples, len(num)))
+    ratios = num[draws].sum(axis=1) / np.maximum(den[draws].sum(axis=1), 1e-12)
+    tail = 100.0 * (1.0 - level) / 2.0
+    lo, hi = np.percentile(ratios, [tail, 100.0 - tail])
     return float(lo), float(hi)
 
 

@@ -8,13 +8,22 @@ Data half (one concept per module; everything seeded from params.yaml ``pacer``)
 * ``bev``: ``render_bev`` (texture fill, lighting, shadows, ground-plane homography, FOV trapezoid),
   ``render_aerial``, ``fov_mask``.
 * ``preferences``: orderings (realistic / inverted / random), ``rank_costs`` ((l-1)/(L-1)),
-  ``target_costmap``, ``tier_table``; ``IGNORE`` = -1.
-* ``context``: ``preference_context(bank, ordering, rng, params) -> ((3n, 2h, w), pairs)`` and
-  ``uninformative_context(bank, shown_group, preference, rng, params)`` (terrains of the other group).
+  ``target_costmap``, ``environment_tiers`` (low / medium / high thirds of one environment's ordering);
+  ``IGNORE`` = -1.
+* ``context``: ``preference_context(bank, ordering, rng, params, cover) -> ((3n, 2h, w), pairs)`` (pairs
+  naming every terrain of ``cover`` where n allows), ``superset_terrains`` (in view + others, as deployed)
+  and ``uninformative_context(bank, shown_group, preference, rng, params)`` (terrains of the other group).
 * ``datasets``: ``pacer_dataset(params, data_dir, "real" | "shuffled" | "synthetic", split)`` and
   ``evaluation_dataset(params, data_dir, "seen" | "unseen", "realistic" | "inverted", informative)``:
   torch Datasets of dicts ``image, context, costmap, fov_mask, labels, ordering``.
 * ``aerial``: ``aerial_maps(params, data_dir, "seen" | "unseen") -> list[AerialMap]`` for Tables I-II.
 
-Metrics live in ``navlab.metrics.cost_tiers`` and ``navlab.metrics.margin_ranking``.
+Model half: ``model``, ``loss`` (masked BCE, entropy floor), ``train`` (three phases, cosine LR, early
+stopping on held-out loss keeping the best checkpoint), ``checkpoints``, ``baselines`` (STERLING-style,
+semantic classifier), ``artifacts`` (the DVC stage builders).
+
+Measurement: ``evaluate`` (stitched BEV windows, window oracle, A*), ``experiments`` (Tables I-V and the
+``context_following`` report, with bootstrap intervals and the uniform / window-oracle reference rows),
+``claims`` (the paper's numbers and the checks of its claims). Metrics live in
+``navlab.metrics.cost_tiers``, ``navlab.metrics.margin_ranking`` and ``navlab.metrics.intervals``.
 """

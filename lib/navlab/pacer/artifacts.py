@@ -1,7 +1,8 @@
 """Artefact builders of the pacer track (DVC stages ``pacer_*``): the three training phases and the baselines.
 
 Each writes one folder under ``artifacts/pacer/``: ``phase1``-``phase3`` (``model.pt``, ``checkpoint.pt``,
-``val_loss.tsv``), ``sterling`` (``encoder.pt``) and ``classifier`` (``classifier.pt``).
+``val_loss.tsv``, ``summary.json``), ``sterling`` (``encoder.pt``) and ``classifier`` (``classifier.pt``,
+``summary.json``).
 """
 
 from __future__ import annotations
@@ -11,13 +12,13 @@ from pathlib import Path
 from torch.utils.data import Subset
 
 from navlab.core.fingerprint import files_fingerprint
-from navlab.core.io import require
+from navlab.core.io import require, write_json
 from navlab.core.params import Params
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import pacer_dataset
 from navlab.pacer.terrain import load_terrain_bank
-from navlab.pacer.train import PHASE_DATASETS, PHASES, train_phase
+from navlab.pacer.train import PHASE_DATASETS, PHASES, resolve_device, train_phase
 
 
 def phase_dir(artifacts_dir: str | Path, phase: str) -> Path:
@@ -46,16 +47,23 @@ def build_sterling(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
     """VICReg patch encoder on D_real's training images (no labels used)."""
     real = pacer_dataset(params, data_dir, "real", "train")
     b = params.pacer.baselines
-    encoder = train_sterling([real], b.sterling, b.patch_size, params.pacer.seed, params.pacer.train.device)
+    device = str(resolve_device(params.pacer.train.device))
+    encoder = train_sterling([real], b.sterling, b.patch_size, params.pacer.seed, device)
     save_sterling(encoder, phase_dir(artifacts_dir, "sterling") / "encoder.pt")
 
 
 def build_classifier(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
-    """Patch classifier over the seen terrain labels of D_real's training images."""
-    real = pacer_dataset(params, data_dir, "real", "train")
+    """Patch classifier over the seen terrain labels of D_real's training images, its best epoch chosen by
+    patch accuracy on D_real's validation images (``summary.json``)."""
+    bank = load_terrain_bank(data_dir, params.pacer.data)
+    real, val = (pacer_dataset(params, data_dir, "real", split, bank) for split in ("train", "val"))
     b = params.pacer.baselines
-    model = train_classifier([real], b.classifier, b.patch_size, params.pacer.seed, params.pacer.train.device)
-    save_classifier(model, phase_dir(artifacts_dir, "classifier") / "classifier.pt")
+    device = str(resolve_device(params.pacer.train.device))
+    model, summary = train_classifier([real], b.classifier, b.patch_size, params.pacer.seed, device,
+                                      val_datasets=[val])
+    out = phase_dir(artifacts_dir, "classifier")
+    save_classifier(model, out / "classifier.pt")
+    write_json(out / "summary.json", summary)
 
 
 def artifact_steps() -> list:

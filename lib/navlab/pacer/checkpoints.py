@@ -7,12 +7,13 @@ archive after the file it writes) and re-saving the same weights gives the same 
 
 A checkpoint carries the ``key`` of the run that wrote it (code fingerprint + parameters + inputs,
 see ``navlab.core.fingerprint``); ``resume_checkpoint`` returns it only to a run with the same key, so
-a finished run is never continued under other code or parameters (DESIGN.md, "Caches").
+a finished run is never continued under other code or parameters (DESIGN.md, "Caches"). ``read_summary`` reads the training summary written beside them.
 """
 
 from __future__ import annotations
 
 import io
+import json
 import pickle
 import warnings
 import zipfile
@@ -91,3 +92,13 @@ def resume_checkpoint(path: str | Path, key: str, device: str | torch.device = "
         path.unlink(missing_ok=True)
         return None
     return checkpoint if checkpoint["key"] == key else None
+
+
+def read_summary(folder: str | Path) -> dict[str, Any]:
+    """A trained network's ``summary.json`` (phases: best epoch, its validation loss, the entropy floor;
+    classifier: best epoch and held-out accuracy), written beside it by its DVC stage."""
+    path = Path(folder) / "summary.json"
+    if not path.is_file():
+        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
+                        f"pacer_{Path(folder).name}` (or `dvc repro`)")
+    return json.loads(path.read_text())

@@ -1,11 +1,17 @@
 """Preference contexts (PACER Sec. IV-A, V-A): n pairs of terrain patches, the preferred one on top.
 
 From an ordering ``tau_1 > ... > tau_L`` we choose n of its L(L-1)/2 ordered pairs without replacement
-(with repeats only when L(L-1)/2 < n; a lone terrain pairs with itself), shuffle them, and draw for each
+(with repeats only when L(L-1)/2 < n; a lone terrain pairs with itself), first pairing off the terrains
+that must be named (those in view) so each appears where 2n allows, shuffle them, and draw for each
 terrain a fresh h x w patch from the *context part* of one of its photographs (never the part BEV
 images are rendered from), at a ground scale like the images' and under its own brightness. Pair i
 fills channels 3i..3i+2 of a float32 ``(3n, 2h, w)`` tensor: rows 0..h-1 the preferred patch, rows
 h..2h-1 the other one.
+
+As at deployment, the ordering a context is drawn from may be a *superset* of the terrains in view
+(:func:`superset_terrains`: the terrains in view plus a few others of the same kind, the way a map's
+3-5 terrains are more than one window shows; the released code draws 3 pairs from a whole 6-class
+ordering whatever is in view).
 
 An *uninformative* context (Sec. VI, questions 1b/2b) has the same form but is built from terrains of
 another group than the image shows, so it says nothing about the image's terrains.
@@ -24,20 +30,41 @@ from navlab.pacer.preferences import Preference, order_terrains
 from navlab.pacer.terrain import TerrainBank, pyramid_level
 
 
-def preference_pairs(ordering: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
-    """int64 (n_pairs, 2): rows (preferred terrain, less preferred terrain), consistent with ``ordering``."""
+def preference_pairs(ordering: np.ndarray, n_pairs: int, rng: np.random.Generator,
+                     cover: np.ndarray | None = None) -> np.ndarray:
+    """int64 (n_pairs, 2): rows (preferred terrain, less preferred terrain), consistent with ``ordering``.
+
+    Every terrain of ``cover`` (default: all of ``ordering``) appears in some pair when ``n_pairs``
+    allows: the covered terrains, shuffled, are paired off two by two (the last of an odd count with a
+    random other terrain); the remaining pairs are distinct pairs of ``ordering`` drawn at random.
+    """
     ordering = np.asarray(ordering, dtype=np.int64)
     count = len(ordering)
     if count == 0:
         raise ValueError("ordering is empty; a preference context needs at least one terrain")
     if count == 1:
         return np.repeat(ordering[None, [0, 0]], n_pairs, axis=0)
+    rank = {int(t): r for r, t in enumerate(ordering)}
+    cover = ordering if cover is None else np.unique(np.asarray(cover, dtype=np.int64))
+    if any(int(t) not in rank for t in cover):
+        raise ValueError(f"cover {np.asarray(cover).tolist()} names terrains the ordering {ordering.tolist()} "
+                         "does not rank; the ordering must be a superset of the terrains to cover")
+    ranks = [rank[int(t)] for t in rng.permutation(cover)]
+    chosen: list[tuple[int, int]] = []
+    for k in range(0, len(ranks), 2):
+        if len(chosen) == n_pairs:
+            break
+        a = ranks[k]
+        b = ranks[k + 1] if k + 1 < len(ranks) else int(rng.choice([r for r in range(count) if r != a]))
+        chosen.append((min(a, b), max(a, b)))
     upper, lower = np.triu_indices(count, k=1)  # rank upper < rank lower: upper is preferred
-    chosen = rng.permutation(len(upper))[: min(n_pairs, len(upper))]
-    if len(chosen) < n_pairs:
-        chosen = np.concatenate([chosen, rng.integers(0, len(upper), size=n_pairs - len(chosen))])
-    chosen = rng.permutation(chosen)
-    return np.stack([ordering[upper[chosen]], ordering[lower[chosen]]], axis=1)
+    rest = [p for p in zip(upper.tolist(), lower.tolist()) if p not in chosen]
+    rest = [rest[k] for k in rng.permutation(len(rest))]
+    chosen += rest[: n_pairs - len(chosen)]
+    while len(chosen) < n_pairs:  # fewer distinct pairs than n_pairs: repeat some
+        chosen.append(chosen[int(rng.integers(len(chosen)))])
+    chosen = [chosen[k] for k in rng.permutation(len(chosen))]
+    return np.asarray([[ordering[a], ordering[b]] for a, b in chosen], dtype=np.int64)
 
 
 def context_patch(bank: TerrainBank, terrain: int, rng: np.random.Generator, patch_size: int,
@@ -64,10 +91,11 @@ def stack_context(preferred: np.ndarray, other: np.ndarray) -> np.ndarray:
 
 
 def preference_context(bank: TerrainBank, ordering: np.ndarray, rng: np.random.Generator,
-                       params: PacerDataParams) -> tuple[np.ndarray, np.ndarray]:
+                       params: PacerDataParams, cover: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(context float32 (3n, 2h, w), pairs int64 (n, 2)) for ``ordering`` (terrain ids, most preferred
-    first), with n = ``params.n_pairs`` and h = w = ``params.patch_size``."""
-    pairs = preference_pairs(ordering, params.n_pairs, rng)
+    first), with n = ``params.n_pairs`` and h = w = ``params.patch_size``; the pairs cover ``cover``
+    (default: every terrain of ``ordering``) where n allows (:func:`preference_pairs`)."""
+    pairs = preference_pairs(ordering, params.n_pairs, rng, cover)
     scale = texels_per_pixel(rng, params)
     patches = np.stack([[context_patch(bank, t, rng, params.patch_size, scale) for t in pair] for pair in pairs])
     jitter = params.photometric.brightness  # patches come from other photographs, under other light
@@ -93,3 +121,12 @@ def uninformative_terrains(candidates: np.ndarray, n_pairs: int, rng: np.random.
     while count * (count - 1) // 2 < n_pairs:
         count += 1
     return rng.choice(np.asarray(candidates, dtype=np.int64), size=min(count, len(candidates)), replace=False)
+
+
+def superset_terrains(in_view: np.ndarray, candidates: np.ndarray, extra: int, rng: np.random.Generator) -> np.ndarray:
+    """The terrains in view plus ``extra`` others drawn from ``candidates`` (fewer if too few remain),
+    unordered: what a deployment context is drawn over when it was written for a whole map."""
+    in_view = np.unique(np.asarray(in_view, dtype=np.int64))
+    others = np.setdiff1d(np.asarray(candidates, dtype=np.int64), in_view)
+    drawn = rng.choice(others, size=min(extra, len(others)), replace=False)
+    return np.concatenate([in_view, drawn]).astype(np.int64)

@@ -18,16 +18,22 @@ pairs       int64 (n, 2)            terrain ids (preferred, other) of each conte
 
 Recipes (``RECIPES``):
 
+Training recipes draw their contexts as ``pacer.data.train_context`` says: ``superset`` (as at
+deployment and in the released code: pairs over the terrains in view plus ``context_extra`` others of
+the same pool, every terrain in view named where n allows; the target still ranks only the terrains in
+view, in the superset's order) or ``in_view``.
+
 * ``real``: seen terrains, the realistic ordering (phase 1);
 * ``shuffled``: seen terrains, a uniformly random permutation per item (phase 2);
 * ``synthetic``: a seen layout in which each terrain is replaced by a Sweet Home 3D texture with chance
   ``synthetic_replace`` (at least one is), random ordering (phase 3);
 * evaluation (:func:`evaluation_dataset`): seen or unseen terrains x realistic or inverted ordering, with
-  an informative context or an uninformative one (terrains of the other group only).
+  an informative context (in-view or superset) or an uninformative one (terrains of the other group only).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -40,13 +46,15 @@ from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng as seeded_rng
 from navlab.pacer.bev import fov_mask, render_bev
-from navlab.pacer.context import preference_context, uninformative_context
+from navlab.pacer.context import preference_context, superset_terrains, uninformative_context
 from navlab.pacer.layouts import bev_layout
 from navlab.pacer.preferences import IGNORE, Preference, order_terrains, pad_ordering, target_costmap
 from navlab.pacer.terrain import TerrainBank, load_terrain_bank
 
 Split = Literal["train", "val", "test"]
 SPLITS: tuple[Split, ...] = ("train", "val", "test")
+ContextDraw = Literal["in_view", "superset"]
+CONTEXT_DRAWS: tuple[ContextDraw, ...] = ("in_view", "superset")
 
 
 @dataclass(frozen=True)
@@ -60,6 +68,7 @@ class Recipe:
     preference: Preference
     synthetic: bool = False  # replace some terrains by synthetic ones (D_synthetic)
     informative: bool = True  # False: the context shows only terrains of the other group
+    context: ContextDraw = "in_view"  # superset: pairs over the terrains in view plus context_extra others
 
 
 RECIPES = {
@@ -113,8 +122,15 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
     terrain_map = region_terrains[regions]
     image, fov = render_bev(terrain_map, bank, rng, params)
     labels = np.where(fov, terrain_map, IGNORE)
-    ordering = order_terrains(np.unique(labels[fov]), recipe.preference, bank, rng)
-    if recipe.informative:
+    in_view = np.unique(labels[fov])
+    ordering = order_terrains(in_view, recipe.preference, bank, rng)
+    if recipe.informative and recipe.context == "superset":
+        pool = np.concatenate([bank.ids(g) for g in (recipe.terrains, "synthetic")[: 1 + recipe.synthetic]])
+        drawn = order_terrains(superset_terrains(in_view, pool, params.context_extra, rng), recipe.preference,
+                               bank, rng)
+        ordering = drawn[np.isin(drawn, in_view)]  # the target ranks the terrains in view, in the same order
+        context, pairs = preference_context(bank, drawn, rng, params, cover=in_view)
+    elif recipe.informative:
         context, pairs = preference_context(bank, ordering, rng, params)
     else:
         context, pairs = uninformative_context(bank, recipe.terrains, recipe.preference, rng, params)
@@ -149,21 +165,26 @@ def pacer_dataset(params: Params, data_dir: str | Path, name: str, split: Split 
         raise ValueError(f"dataset {name!r}: allowed names are {', '.join(RECIPES)}")
     data = params.pacer.data
     bank = bank if bank is not None else load_terrain_bank(data_dir, data)
-    return PacerDataset(bank, data, RECIPES[name], split, getattr(data.sizes, split), params.pacer.seed)
+    recipe = dataclasses.replace(RECIPES[name], context=data.train_context)
+    return PacerDataset(bank, data, recipe, split, getattr(data.sizes, split), params.pacer.seed)
 
 
 def evaluation_dataset(params: Params, data_dir: str | Path, terrains: Literal["seen", "unseen"],
                        preference: Literal["realistic", "inverted"], informative: bool = True,
-                       split: Split = "test", bank: TerrainBank | None = None) -> PacerDataset:
+                       split: Split = "test", bank: TerrainBank | None = None,
+                       context: ContextDraw = "superset") -> PacerDataset:
     """Held-out BEV items on ``terrains`` under the realistic or inverted ordering (Tables III-IV style),
-    with an informative context or an uninformative one (``informative=False``). All four variants of one
-    ``terrains`` show the same images: only the ordering, the costmap and the context differ."""
+    with an informative context (drawn over the terrains in view, or as at deployment over a superset of
+    them) or an uninformative one (``informative=False``). All variants of one ``terrains`` show the same
+    images: only the ordering, the costmap and the context differ."""
+    if context not in CONTEXT_DRAWS:
+        raise ValueError(f"context {context!r}: contexts are drawn {' or '.join(CONTEXT_DRAWS)}")
     if terrains not in ("seen", "unseen"):
         raise ValueError(f"terrains {terrains!r}: evaluation sets are 'seen' or 'unseen'")
     if preference not in ("realistic", "inverted"):
         raise ValueError(f"preference {preference!r}: evaluation sets are 'realistic' or 'inverted'")
-    name = f"eval-{terrains}-{preference}" + ("" if informative else "-uninformative")
-    recipe = Recipe(name, f"eval-{terrains}", terrains, preference, informative=informative)
+    name = f"eval-{terrains}-{preference}-" + (context if informative else "uninformative")
+    recipe = Recipe(name, f"eval-{terrains}", terrains, preference, informative=informative, context=context)
     data = params.pacer.data
     bank = bank if bank is not None else load_terrain_bank(data_dir, data)
     return PacerDataset(bank, data, recipe, split, getattr(data.sizes, split), params.pacer.seed)

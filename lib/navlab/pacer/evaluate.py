@@ -3,49 +3,87 @@
 PACER's aerial-map experiments (Sec. VI-A) give the robot its local BEV at each pose; we cover a large
 rendered map with overlapping BEV-sized windows instead, each window contributing only inside its
 field-of-view trapezoid (the only pixels the network was trained on), and plan once on the stitched
-map. The planner sees cost per metre 1 + cost_scale · c for predicted cost c ∈ [0, 1].
+map. The *window oracle* costs every window exactly as its training target and is stitched the same
+way: what a perfect model would score under this protocol. The planner sees cost per metre 1 + cost_scale · c for predicted cost c ∈ [0, 1].
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 import torch
 from torch.nn import functional as F
 
 from navlab.pacer.aerial import EDGE_MARGIN
+from navlab.pacer.preferences import IGNORE, target_costmap
 from navlab.search.grid_astar import GridPath, plan
+
+
+def stitch_windows(window_costs: Callable[[list[tuple[int, int]]], torch.Tensor], shape: tuple[int, int],
+                   fov_mask: np.ndarray, *, overlap: int = 2, batch: int = 32) -> torch.Tensor:
+    """(H,W) costs of a large map of ``shape`` from BEV-sized windows at stride window/overlap.
+
+    The map is thought of as reflect-padded by one window so border pixels fall inside some window's
+    trapezoid too; ``window_costs(corners)`` returns the (N, window, window) costs of the padded map's
+    windows with those top-left corners. Each pixel averages the windows whose field of view covers it.
+    """
+    window = fov_mask.shape[0]
+    stride = max(1, window // overlap)
+    h, w = shape
+    padded = (h + 2 * window, w + 2 * window)
+    weight = torch.as_tensor(fov_mask, dtype=torch.float32)
+    corners = [(r, c) for r in range(0, padded[0] - window + 1, stride)
+               for c in range(0, padded[1] - window + 1, stride)]
+    total, hits = torch.zeros(padded), torch.zeros(padded)
+    for start in range(0, len(corners), batch):
+        chunk = corners[start:start + batch]
+        for (r, c), cost in zip(chunk, window_costs(chunk)):
+            total[r:r + window, c:c + window] += cost * weight
+            hits[r:r + window, c:c + window] += weight
+    inner = (slice(window, window + h), slice(window, window + w))
+    return total[inner] / hits[inner].clamp_min(1e-6)
 
 
 @torch.no_grad()
 def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch.Tensor, fov_mask: np.ndarray,
                      *, overlap: int = 2, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
-    """(H,W) costs of a large (3,H,W) map: windows of the FOV mask's size at stride window/overlap.
-
-    The map is reflect-padded by one window so border pixels fall inside some window's trapezoid too;
-    each pixel averages the predictions of the windows whose field of view covers it.
-    """
+    """(H,W) PACER costs of a large (3,H,W) map: the network on every window (zero outside its field of
+    view, as in training), stitched by :func:`stitch_windows`."""
     model.eval()
     window = fov_mask.shape[0]
-    stride = max(1, window // overlap)
     image = torch.as_tensor(image, dtype=torch.float32)
-    _, h, w = image.shape
     padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
     weight = torch.as_tensor(fov_mask, dtype=torch.float32)
-    tops = range(0, padded.shape[1] - window + 1, stride)
-    lefts = range(0, padded.shape[2] - window + 1, stride)
-    corners = [(r, c) for r in tops for c in lefts]
-    total = torch.zeros(padded.shape[1:])
-    hits = torch.zeros(padded.shape[1:])
     ctx = torch.as_tensor(context, dtype=torch.float32)[None].to(device)
-    for start in range(0, len(corners), batch):
-        chunk = corners[start:start + batch]
-        windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in chunk])
-        costs = torch.sigmoid(model(windows.to(device), ctx.expand(len(chunk), -1, -1, -1))).cpu()
-        for (r, c), cost in zip(chunk, costs):
-            total[r:r + window, c:c + window] += cost * weight
-            hits[r:r + window, c:c + window] += weight
-    inner = (slice(window, window + h), slice(window, window + w))
-    return total[inner] / hits[inner].clamp_min(1e-6)
+
+    def costs(corners):
+        windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in corners])
+        return torch.sigmoid(model(windows.to(device), ctx.expand(len(corners), -1, -1, -1))).cpu()
+
+    return stitch_windows(costs, tuple(image.shape[1:]), fov_mask, overlap=overlap, batch=batch)
+
+
+def oracle_window_costs(labels: np.ndarray, fov_mask: np.ndarray, ordering: np.ndarray) -> np.ndarray:
+    """The training target of one BEV window (Sec. V-A): the environment's ``ordering`` restricted to the
+    terrains in the window's field of view, each pixel costed (l-1)/(L-1) by its rank l among them."""
+    in_view = np.unique(labels[fov_mask])
+    ordering = np.asarray(ordering, dtype=np.int64)
+    return target_costmap(np.where(fov_mask, labels, IGNORE), ordering[np.isin(ordering, in_view)])
+
+
+def window_oracle_costmap(labels: np.ndarray, ordering: np.ndarray, fov_mask: np.ndarray, *,
+                          overlap: int = 2) -> torch.Tensor:
+    """(H,W) costs of a map whose every window is costed exactly as its training target, stitched like
+    PACER's: the ceiling of the window protocol (a perfect PACER model scores this)."""
+    window = fov_mask.shape[0]
+    padded = np.pad(np.asarray(labels, dtype=np.int64), window, mode="reflect")
+
+    def costs(corners):
+        return torch.from_numpy(np.stack([oracle_window_costs(padded[r:r + window, c:c + window], fov_mask,
+                                                              ordering) for r, c in corners]))
+
+    return stitch_windows(costs, labels.shape, fov_mask, overlap=overlap)
 
 
 def plan_on_costmap(costmap: np.ndarray, start, goal, cost_scale: float) -> GridPath:

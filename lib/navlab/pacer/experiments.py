@@ -2,7 +2,10 @@
 
 - Navigation (Tables I-IV): on each rendered aerial map, every method costs the map under one
   preference (realistic or inverted), A* plans from the map's start to its goal, and the path is
-  scored by the share of its cells on low / medium / high tiers of the hidden ordering.
+  scored by the share of its cells on low / medium / high tiers of the hidden ordering of that map's
+  own terrains (``preferences.environment_tiers``), averaged over maps with a bootstrap 95% interval.
+  Two reference rows bracket every table: a uniform costmap (chance: the plain shortest path) and
+  the window oracle (the ceiling of the stitched-window protocol).
   Each method receives the preference in its own form (Sec. VI): PACER and STERLING a preference
   context of terrain patches, the classifier a label → cost table, ground truth the ordering itself.
 - Margin ranking error (Table V) and the held-out preference agreement on BEV test items.
@@ -11,6 +14,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -20,14 +24,21 @@ from torch.utils.data import Dataset
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
+from navlab.metrics.intervals import bootstrap_mean_ci, bootstrap_ratio_ci
 from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.aerial import AerialMap
 from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import preference_context, uninformative_context
-from navlab.pacer.evaluate import context_pair_agreement, costmap_over_map, crossing_queries, plan_on_costmap
-from navlab.pacer.preferences import order_terrains, rank_costs, target_costmap
+from navlab.pacer.evaluate import (
+    context_pair_agreement,
+    costmap_over_map,
+    crossing_queries,
+    plan_on_costmap,
+    window_oracle_costmap,
+)
+from navlab.pacer.preferences import environment_tiers, order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import TerrainBank
 
 Preference = Literal["realistic", "inverted"]
@@ -36,12 +47,25 @@ Preference = Literal["realistic", "inverted"]
 Method = Callable[[AerialMap, np.ndarray, np.ndarray], np.ndarray | None]
 
 
+@dataclass(frozen=True)
+class NavigationResult:
+    """Tables I-IV for one set of maps and one preference: ``rows`` (mean tier shares over maps with
+    bootstrap 95% intervals, ``<tier>_ci``), ``shares[method]`` (maps, 3) per-map mean shares of
+    (low, medium, high), or None for a method that cannot take the preference, and ``paths[method]``
+    each map's first A* path."""
+
+    rows: list[dict]
+    shares: dict[str, np.ndarray | None]
+    paths: dict[str, list[np.ndarray]]
+
+
 def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, preference: Preference,
                 informative: bool, seed: int, index: int) -> tuple[np.ndarray, np.ndarray]:
-    """(ordering of the map's terrains, preference context) for one map and preference.
+    """(hidden ordering of the map's terrains, preference context) for one map and preference.
 
-    Informative: the context's pairs come from the map's own terrains. Uninformative (questions 1b/2b):
-    from terrains of the other group (seen ↔ unseen), so it says nothing about this map.
+    Informative: the operator's pairs cover every terrain of the map where ``n_pairs`` allows (a
+    superset of whatever a BEV window shows). Uninformative (questions 1b/2b): terrains of the other
+    group (seen ↔ unseen) only, so it says nothing about this map.
     """
     gen = rng(seed, "pacer.navigation.context", preference, informative, index)
     ordering = order_terrains(amap.terrains, preference, bank, gen)
@@ -57,6 +81,17 @@ def pacer_method(model: torch.nn.Module, data: PacerDataParams, device: str = "c
     mask = fov_mask(data.image_size, data.camera.near_width)
     return lambda amap, ordering, context: costmap_over_map(
         model, torch.as_tensor(amap.image), torch.as_tensor(context), mask, device=device).numpy()
+
+
+def window_oracle_method(data: PacerDataParams) -> Method:
+    """Reference row (ceiling): every BEV window costed exactly as its training target, stitched as PACER's."""
+    mask = fov_mask(data.image_size, data.camera.near_width)
+    return lambda amap, ordering, context: window_oracle_costmap(amap.labels, ordering, mask).numpy()
+
+
+def uniform_method() -> Method:
+    """Reference row (chance): the same cost everywhere, i.e. the plain shortest path."""
+    return lambda amap, ordering, context: np.zeros(amap.labels.shape, dtype=np.float32)
 
 
 def sterling_method(encoder: SterlingEncoder, steps: int) -> Method:
@@ -84,58 +119,87 @@ def ground_truth_method() -> Method:
 
 
 def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Method, bool]], bank: TerrainBank,
-                    data: PacerDataParams, preference: Preference, tiers: np.ndarray, cost_scale: float,
-                    seed: int, queries_per_map: int = 1) -> tuple[list[dict], dict[str, list[np.ndarray]]]:
-    """One row per method: mean tier shares of its A* paths over ``maps``; also each method's first path per map.
+                    data: PacerDataParams, preference: Preference, cost_scale: float, seed: int,
+                    queries_per_map: int = 1) -> NavigationResult:
+    """Tables I-IV: each method's A* paths on ``maps`` scored by the tiers of each map's own ordering.
 
     Each map is costed once per method and crossed ``queries_per_map`` times: its own start-goal pair,
-    then extra crossings drawn the same way (seeded by map index). ``methods`` maps a name to (method,
-    informative context?). A method that returns None on any map gets a row of None (it cannot
-    express this preference).
+    then extra crossings drawn the same way (seeded by map index). A map's share is the mean over its
+    crossings; a row is the mean over maps with a bootstrap 95% interval over maps. ``methods`` maps a
+    name to (method, informative context?). A method that returns None on any map gets a row of None
+    (it cannot express this preference).
     """
     queries = [[(amap.start, amap.goal)] + crossing_queries(amap.labels.shape[0], queries_per_map - 1,
                                                             rng(seed, "pacer.navigation.queries", index))
                for index, amap in enumerate(maps)]
-    rows, paths = [], {}
+    rows, shares, paths = [], {}, {}
     for name, (method, informative) in methods.items():
-        shares, paths[name] = [], []
+        per_map, paths[name] = [], []
         for index, amap in enumerate(maps):
             ordering, context = map_context(bank, data, amap, preference, informative, seed, index)
             costmap = method(amap, ordering, context)
             if costmap is None:
-                shares = None
+                per_map = None
                 break
+            tiers = environment_tiers(ordering, len(bank))
+            crossings = []
             for k, (start, goal) in enumerate(queries[index]):
                 path = plan_on_costmap(costmap, start, goal, cost_scale)
                 if k == 0:
                     paths[name].append(path.cells)
-                shares.append(cost_tier_proportions(path.cells, amap.labels, tiers))
-        row = {"method": name}
-        for tier in TIER_NAMES:
-            row[tier] = None if shares is None else float(np.mean([s[tier] for s in shares]))
-        rows.append(row)
-    return rows, paths
+                found = cost_tier_proportions(path.cells, amap.labels, tiers)
+                crossings.append([found[t] for t in TIER_NAMES])
+            per_map.append(np.mean(crossings, axis=0))
+        shares[name] = None if per_map is None else np.asarray(per_map)
+        rows.append(tier_row(name, shares[name], rng(seed, "pacer.navigation.ci", name, preference)))
+    return NavigationResult(rows, shares, paths)
+
+
+def tier_row(name: str, per_map: np.ndarray | None, gen: np.random.Generator) -> dict:
+    """{"method", low, medium, high, low_ci, ...}: means over maps and their bootstrap 95% intervals."""
+    row: dict = {"method": name}
+    for k, tier in enumerate(TIER_NAMES):
+        row[tier] = None if per_map is None else float(per_map[:, k].mean())
+    for k, tier in enumerate(TIER_NAMES):
+        row[f"{tier}_ci"] = None if per_map is None else [round(v, 4) for v in bootstrap_mean_ci(per_map[:, k], gen)]
+    return row
+
+
+@dataclass(frozen=True)
+class Agreement:
+    """Held-out pair agreement: ``fraction`` of ``pairs`` context pairs (both terrains in view) whose
+    preferred terrain gets the lower mean predicted cost, with a bootstrap 95% interval over items."""
+
+    fraction: float
+    pairs: int
+    ci: tuple[float, float] | None
 
 
 @torch.no_grad()
-def preference_agreement(model: torch.nn.Module, dataset: Dataset, count: int, device: str = "cpu") -> tuple[float, int]:
-    """(fraction, pairs): over ``count`` items, how often the terrain a context pair prefers gets the lower
-    mean predicted cost (pairs with both terrains in view)."""
+def preference_agreement(model: torch.nn.Module, dataset: Dataset, count: int, seed: int,
+                         device: str = "cpu") -> Agreement:
+    """How often, over ``count`` items, the terrain a context pair prefers gets the lower mean predicted
+    cost. The interval resamples items (the pairs of one image are not independent)."""
     model.eval()
-    agree = compared = 0
+    per_item = []
     for i in range(min(count, len(dataset))):
         item = dataset[i]
         pred = model.costmap(item["image"][None].to(device), item["context"][None].to(device))[0].cpu().numpy()
-        a, c = context_pair_agreement(pred, np.asarray(item["labels"]), np.asarray(item["fov_mask"]),
-                                      np.asarray(item["pairs"]))
-        agree, compared = agree + a, compared + c
-    return (agree / compared if compared else float("nan")), compared
+        per_item.append(context_pair_agreement(pred, np.asarray(item["labels"]), np.asarray(item["fov_mask"]),
+                                               np.asarray(item["pairs"])))
+    counts = np.asarray(per_item, dtype=np.float64).reshape(-1, 2)
+    compared = int(counts[:, 1].sum())
+    if compared == 0:
+        return Agreement(float("nan"), 0, None)
+    ci = bootstrap_ratio_ci(counts[:, 0], counts[:, 1], rng(seed, "pacer.agreement.ci"))
+    return Agreement(float(counts[:, 0].sum() / compared), compared, ci)
 
 
 @torch.no_grad()
 def mean_margin_ranking_error(model: torch.nn.Module, dataset: Dataset, count: int, points: int, seed: int,
-                              device: str = "cpu") -> float:
-    """Table V: margin ranking error of ``points`` sampled pixels per costmap, mean over ``count`` items."""
+                              device: str = "cpu") -> tuple[float, list[float]]:
+    """Table V: margin ranking error of ``points`` sampled pixels per costmap: (mean over ``count`` items,
+    bootstrap 95% interval over items)."""
     model.eval()
     errors = []
     for i in range(min(count, len(dataset))):
@@ -143,4 +207,51 @@ def mean_margin_ranking_error(model: torch.nn.Module, dataset: Dataset, count: i
         pred = model.costmap(item["image"][None].to(device), item["context"][None].to(device))[0].cpu().numpy()
         errors.append(margin_ranking_error(pred, np.asarray(item["labels"]), np.asarray(item["ordering"]), points,
                                            rng=rng(seed, "pacer.margin_ranking", i)))
-    return float(np.mean(errors))
+    ci = bootstrap_mean_ci(np.asarray(errors), rng(seed, "pacer.margin_ranking.ci"))
+    return float(np.mean(errors)), [round(v, 5) for v in ci]
+
+
+NAVIGATION_COLUMNS = ["method", "low", "medium", "high", "low_ci", "medium_ci", "high_ci"]
+PHASE_COLUMNS = ["preference", "model", "low", "medium", "high", "low_ci", "medium_ci", "high_ci"]
+AGREEMENT_COLUMNS = ["model", "set", "context", "agreement", "agreement_ci", "pairs", "best_val_loss",
+                     "entropy_floor", "best_epoch", "epochs_run"]
+
+
+def phase_rows(results: Mapping[Preference, NavigationResult]) -> list[dict]:
+    """Tables III-IV: one row per (preference, model) from the per-preference navigation results."""
+    return [{"preference": preference, "model": row["method"], **{k: v for k, v in row.items() if k != "method"}}
+            for preference, result in results.items() for row in result.rows]
+
+
+def protocol_note(data: PacerDataParams, evaluation, profile: str) -> str:
+    """The navigation protocol in one sentence, for every table's notes."""
+    return (f"{data.aerial.maps} rendered {data.aerial.size}x{data.aerial.size}-pixel aerial maps per environment "
+            f"group ({evaluation.queries_per_map} start-goal crossings each, averaged per map) instead of drone / "
+            f"OpenAerialMap imagery; tiers are the low / medium / high thirds of the hidden ordering of each map's "
+            f"own terrains; every cell is a mean over maps with a bootstrap 95% interval over maps (`<tier>_ci`). "
+            f"Costmaps are stitched from BEV-window predictions over the whole map and planned once with A* (cost "
+            f"per metre 1 + {evaluation.cost_scale:g}·c), not re-planned from each robot pose; the window oracle "
+            f"(every window costed exactly as its training target, stitched the same way) is this protocol's "
+            f"ceiling, the uniform costmap (plain shortest path) its chance level. Operator contexts name every "
+            f"terrain of the map where {data.n_pairs} pairs allow. Models: `{profile}` profile.")
+
+
+def context_following_rows(models: Mapping[str, torch.nn.Module], sets: Mapping[tuple[str, str, str], Dataset],
+                           summaries: Mapping[str, dict], count: int, seed: int,
+                           device: str = "cpu") -> tuple[list[dict], dict[tuple[str, str, str, str], Agreement]]:
+    """The ``context_following`` report: held-out pair agreement of every model on every
+    (terrains, preference, context draw) set, and one row per model with its best validation loss
+    beside the entropy floor of its validation targets (``summaries``: the phases' summary.json)."""
+    rows, found = [], {}
+    for name, model in models.items():
+        summary = summaries[name]
+        rows.append({"model": name, "set": "validation loss", "context": "training draw",
+                     "best_val_loss": summary["best_val_loss"], "entropy_floor": summary["entropy_floor"],
+                     "best_epoch": summary["best_epoch"], "epochs_run": summary["epochs_run"]})
+        for (terrains, preference, context), dataset in sets.items():
+            agreement = preference_agreement(model, dataset, count, seed, device)
+            found[name, terrains, preference, context] = agreement
+            rows.append({"model": name, "set": f"{terrains}/{preference}", "context": context,
+                         "agreement": agreement.fraction, "pairs": agreement.pairs,
+                         "agreement_ci": None if agreement.ci is None else [round(v, 4) for v in agreement.ci]})
+    return rows, found

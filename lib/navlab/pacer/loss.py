@@ -1,5 +1,8 @@
 """Eq. 3 of PACER: per-pixel binary cross-entropy, averaged over the camera's field of view only.
 
+``entropy_floor`` is the loss a perfect model would reach (the targets are soft costs in [0, 1]),
+the yardstick a final validation loss is read against.
+
 Pixels outside the trapezoid field-of-view mask were never seen by the camera; their target cost is
 meaningless, so they contribute neither to the loss nor to its gradient.
 """
@@ -19,3 +22,19 @@ def masked_bce(logits: torch.Tensor, target: torch.Tensor, fov_mask: torch.Tenso
     per_pixel = F.binary_cross_entropy_with_logits(logits, target.to(logits.dtype), reduction="none")
     inside = torch.where(mask, per_pixel, torch.zeros_like(per_pixel))
     return inside.sum() / mask.sum().clamp_min(1)
+
+
+@torch.no_grad()
+def entropy_floor(datasets) -> float:
+    """The lowest mean masked BCE any model can reach on ``datasets``: the mean binary entropy of the
+    soft targets in view, H(y) = -y log y - (1-y) log(1-y), since BCE(p, y) = H(y) + KL(y || p)."""
+    total, pixels = 0.0, 0
+    for ds in datasets:
+        for i in range(len(ds)):
+            item = ds[i]
+            y = torch.as_tensor(item["costmap"], dtype=torch.float64).clamp(1e-12, 1 - 1e-12)
+            mask = torch.as_tensor(item["fov_mask"], dtype=torch.bool)
+            entropy = -(y * y.log() + (1 - y) * (1 - y).log())
+            total += float(entropy[mask].sum())
+            pixels += int(mask.sum())
+    return total / pixels if pixels else float("nan")

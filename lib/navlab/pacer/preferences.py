@@ -9,8 +9,8 @@ draw the ordering when an item is made:
 * inverted: the realistic ordering reversed (every pairwise preference flipped);
 * random: a uniformly random permutation (D_shuffled and D_synthetic), not only reversals.
 
-Tiers (low / medium / high, for Tables I-II) come from params.yaml; inverting a preference swaps
-low and high.
+Tiers (low / medium / high, for Tables I-IV) come from the ordering of each environment's own
+terrains (:func:`environment_tiers`); inverting a preference swaps low and high.
 """
 
 from __future__ import annotations
@@ -69,14 +69,29 @@ def order_terrains(terrains: np.ndarray, preference: Preference, bank: TerrainBa
     return realistic if preference == "realistic" else realistic[::-1].copy()
 
 
-def tier_table(bank: TerrainBank, preference: Literal["realistic", "inverted"]) -> np.ndarray:
-    """int64 (n_terrains,): tier of every terrain id (0 low, 1 medium, 2 high; -1 synthetic) under the
-    realistic preference or its inversion, for ``navlab.metrics.cost_tiers.cost_tier_proportions``."""
-    if preference == "realistic":
-        return bank.tier.copy()
-    if preference == "inverted":
-        return np.where(bank.tier >= 0, 2 - bank.tier, -1)
-    raise ValueError(f"preference {preference!r}: tiers exist for 'realistic' and 'inverted' only")
+def environment_tiers(ordering: np.ndarray, n_terrains: int) -> np.ndarray:
+    """int64 (n_terrains,): the cost tier of each terrain of an environment (0 low, 1 medium, 2 high;
+    -1 for terrains not in ``ordering``), from the hidden total ordering of *that environment's*
+    terrains (PACER Sec. VI: "based on a hidden total ordering of all the terrains which appear in the
+    environment").
+
+    The terrain at rank l of L has cost (l-1)/(L-1); it is low below 1/3, high above 2/3, medium
+    otherwise (integer arithmetic, so the split is exact): two terrains give one low and one high,
+    three one of each, and reversing the ordering swaps low and high.
+    """
+    ordering = np.asarray(ordering, dtype=np.int64)
+    ordering = ordering[ordering != IGNORE]
+    if len(ordering) == 0:
+        raise ValueError("ordering is empty; an environment needs at least one terrain to have tiers")
+    if len(np.unique(ordering)) != len(ordering) or ordering.max() >= n_terrains or ordering.min() < 0:
+        raise ValueError(f"ordering {ordering.tolist()} must rank distinct terrain ids in 0..{n_terrains - 1}")
+    step = np.arange(len(ordering), dtype=np.int64) * 3  # 3(l-1), compared with (L-1) and 2(L-1)
+    span = len(ordering) - 1
+    tier = np.where(step < span, 0, np.where(step > 2 * span, 2, 1))
+    tier[0] = 0  # a lone terrain is low (cost 0)
+    out = np.full(n_terrains, -1, dtype=np.int64)
+    out[ordering] = tier
+    return out
 
 
 def pad_ordering(ordering: np.ndarray, length: int) -> np.ndarray:

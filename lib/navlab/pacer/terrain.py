@@ -23,7 +23,6 @@ so a context patch never repeats a crop of the image it comes with.
 from __future__ import annotations
 
 import functools
-import itertools
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -37,7 +36,6 @@ from navlab.core.params.pacer import PacerDataParams
 
 Group = Literal["seen", "unseen", "synthetic"]
 GROUPS: tuple[Group, ...] = ("seen", "unseen", "synthetic")
-TIER_NAMES = ("low", "medium", "high")
 PYRAMID_LEVELS = 3  # texture copies at 1, 1/2, 1/4 resolution, so minified fills do not alias
 
 
@@ -55,15 +53,15 @@ class TerrainBank:
 
     ``image_parts[t][k][level]`` is photograph k of terrain t, image part, downsampled 2**level times:
     float32 (h, w, 3) RGB in [0, 1]; ``context_parts`` likewise. ``realistic_rank[t]`` is t's position in
-    the realistic ordering (0 = most preferred; -1 for synthetic terrains) and ``tier[t]`` its tier
-    (0 low, 1 medium, 2 high; -1 for synthetic terrains).
+    the realistic ordering (0 = most preferred; -1 for synthetic terrains). Cost tiers are not a property
+    of a terrain: they come from the ordering of the terrains of each environment
+    (``preferences.environment_tiers``).
     """
 
     terrains: tuple[Terrain, ...]
     image_parts: tuple[tuple[tuple[np.ndarray, ...], ...], ...]
     context_parts: tuple[tuple[tuple[np.ndarray, ...], ...], ...]
     realistic_rank: np.ndarray
-    tier: np.ndarray
 
     def __len__(self) -> int:
         return len(self.terrains)
@@ -108,14 +106,11 @@ def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainB
     index = {t.name: t.id for t in terrains}
     rank = np.full(len(terrains), -1, dtype=np.int64)
     rank[[index[n] for n in params.realistic_ordering]] = np.arange(len(params.realistic_ordering))
-    tier = np.full(len(terrains), -1, dtype=np.int64)
-    for level, tier_name in enumerate(TIER_NAMES):
-        tier[[index[n] for n in params.tiers[tier_name]]] = level
-    return TerrainBank(tuple(terrains), tuple(image_parts), tuple(context_parts), rank, tier)
+    return TerrainBank(tuple(terrains), tuple(image_parts), tuple(context_parts), rank)
 
 
 def _check_split(params: PacerDataParams) -> None:
-    """One clear ParamsError when the class lists, the ordering and the tiers disagree."""
+    """One clear ParamsError when the class lists and the ordering disagree."""
     names = [n for g in GROUPS for n in getattr(params, g)]
     duplicated = sorted({n for n in names if names.count(n) > 1})
     if duplicated:
@@ -126,18 +121,6 @@ def _check_split(params: PacerDataParams) -> None:
     if sorted(ordering) != sorted(ranked):
         raise ParamsError(f"pacer.data.realistic_ordering = {ordering}: must list every seen and unseen class "
                           f"exactly once ({sorted(ranked)})")
-    if set(params.tiers) != set(TIER_NAMES):
-        raise ParamsError(f"pacer.data.tiers: keys {sorted(params.tiers)}; expected exactly {list(TIER_NAMES)}")
-    tiered = [n for t in TIER_NAMES for n in params.tiers[t]]
-    if sorted(tiered) != sorted(ranked):
-        raise ParamsError(f"pacer.data.tiers: must put every seen and unseen class in exactly one tier "
-                          f"(got {sorted(tiered)})")
-    rank = {n: i for i, n in enumerate(ordering)}
-    for lower, upper in itertools.pairwise(TIER_NAMES):
-        if max((rank[n] for n in params.tiers[lower]), default=-1) > min(
-                (rank[n] for n in params.tiers[upper]), default=len(rank)):
-            raise ParamsError(f"pacer.data.tiers: every {lower!r} class must come before every {upper!r} "
-                              "class in realistic_ordering")
 
 
 def _check_ranges(params: PacerDataParams) -> None:

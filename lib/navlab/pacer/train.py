@@ -1,16 +1,20 @@
 """PACER's staged training (Sec. V-C): phase 1 D_real → phase 2 + D_shuffled → phase 3 + D_synthetic.
 
-Each phase starts from the previous phase's weights. An epoch draws ``examples_per_epoch`` examples,
+Each phase starts from the previous phase's weights and trains until its validation loss stops
+improving: the learning rate follows a cosine decay over the phase's maximum epochs, the best
+validation checkpoint is kept, and training stops after ``patience`` epochs without improvement.
+An epoch draws ``examples_per_epoch`` examples,
 first a dataset uniformly among the phase's datasets (as the paper does), then an example uniformly
 within it; the draw is keyed by (seed, phase, epoch), and datasets that render examples on the fly
 are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run resumed from a checkpoint sees exactly
 the batches an uninterrupted run would have seen and ends at the same weights.
 
-Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the final
-weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`). The checkpoint
-is keyed on ``run_key``: the code fingerprint of the training and dataset modules, every parameter
-that shapes the weights (epochs included, so fewer epochs give the shorter model), the inputs and the
-initial weights; only a run of the same key resumes.
+Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the best
+weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`), ``summary.json`` (best
+epoch and validation loss beside the entropy floor of the validation targets). The checkpoint is keyed on
+``run_key``: the code fingerprint of the training and dataset modules, every parameter that shapes the
+weights (epochs included, so fewer epochs give the shorter model), the inputs and the initial weights;
+only a run of the same key resumes.
 """
 
 from __future__ import annotations
@@ -22,15 +26,15 @@ from typing import Any
 
 import numpy as np
 import torch
-from torch.utils.data import Dataset
+from torch.utils.data import DataLoader, Dataset
 from tqdm.auto import tqdm
 
 from navlab.core.fingerprint import code_fingerprint
-from navlab.core.io import sha256_file, sha256_json, write_text
+from navlab.core.io import sha256_file, sha256_json, write_json, write_text
 from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
 from navlab.pacer.checkpoints import load_network, resume_checkpoint, save_torch
-from navlab.pacer.loss import masked_bce
+from navlab.pacer.loss import entropy_floor, masked_bce
 from navlab.pacer.model import PacerNet, build_model
 
 PHASES = ("phase1", "phase2", "phase3")
@@ -73,9 +77,9 @@ def validation_loss(model: PacerNet, datasets: Sequence[Dataset], batch_size: in
 
 def run_key(model_cfg: PacerModelParams, train_cfg: PacerTrainParams, *, seed: int, phase: str, epochs: int,
             sizes: Sequence[int], init_from: Path | None, code: str, inputs: Any = None) -> str:
-    """What a checkpoint must match to be resumed: code, parameters (not the device or thread count,
-    which change no result on one machine), epochs, dataset sizes, inputs and the initial weights."""
-    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("device", "threads", "epochs")}
+    """What a checkpoint must match to be resumed: code, parameters (not the device, thread or worker
+    count, which change no result on one machine), epochs, dataset sizes, inputs and the initial weights."""
+    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("device", "threads", "workers", "epochs")}
     init = sha256_file(init_from) if init_from is not None else None
     return sha256_json({"code": code, "model": dataclasses.asdict(model_cfg), "train": train, "seed": seed,
                         "phase": phase, "epochs": epochs, "sizes": list(sizes), "init": init, "inputs": inputs})
@@ -102,6 +106,45 @@ def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet
                         f"pacer_{path.parent.name}", device)
 
 
+def resolve_device(name: str) -> torch.device:
+    """``pacer.train.device`` as a torch device; asking for CUDA where torch sees no GPU is one clear error
+    (a paper-size run never falls back to hours of CPU training unannounced)."""
+    device = torch.device(name)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"pacer.train.device = {name!r} but torch {torch.__version__} sees no CUDA GPU on this "
+                         "machine; run the `gpu`/`paper` profiles on a CUDA machine, or use the `default` profile "
+                         "(CPU)")
+    return device
+
+
+class _Drawn(Dataset):
+    """One epoch's drawn (dataset, example) pairs as a Dataset, so a DataLoader's workers can render them."""
+
+    def __init__(self, datasets: Sequence[Dataset], draws: Sequence[tuple[int, int]]):
+        self.datasets, self.draws = datasets, draws
+
+    def __len__(self) -> int:
+        return len(self.draws)
+
+    def __getitem__(self, k: int):
+        d, i = self.draws[k]
+        return self.datasets[d][i]
+
+
+def epoch_batches(datasets: Sequence[Dataset], draws: Sequence[tuple[int, int]], batch_size: int, workers: int):
+    """The epoch's batches in draw order; ``workers`` > 0 renders items in that many processes (the
+    same items, since every item is seeded by its index and epoch, whoever renders it)."""
+    return DataLoader(_Drawn(datasets, draws), batch_size=batch_size, shuffle=False, collate_fn=collate,
+                      num_workers=workers, persistent_workers=False)
+
+
+def cosine_lr(step: int, total: int, lr: float, final_fraction: float) -> float:
+    """Cosine decay from ``lr`` at step 0 to ``lr * final_fraction`` at step ``total`` (Loshchilov and
+    Hutter, SGDR, ICLR 2017, without restarts)."""
+    progress = min(step, total) / max(total, 1)
+    return lr * (final_fraction + (1.0 - final_fraction) * 0.5 * (1.0 + np.cos(np.pi * progress)))
+
+
 def train_phase(
     model_cfg: PacerModelParams,
     train_cfg: PacerTrainParams,
@@ -119,55 +162,81 @@ def train_phase(
 ) -> Path:
     """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``.
 
+    Up to ``epochs`` epochs with the learning rate decayed by a cosine over all of them; after every
+    epoch the validation loss is measured and the weights with the lowest one are kept; training stops
+    early once it has not improved for ``train_cfg.patience`` epochs. ``model.pt`` holds the best
+    weights, ``summary.json`` the best epoch, its validation loss and the entropy floor of the
+    validation targets (the lowest loss any model can reach, :func:`navlab.pacer.loss.entropy_floor`).
     ``inputs``: a fingerprint of the files the datasets read (part of the run key).
     """
     out_dir = Path(out_dir)
-    device = torch.device(train_cfg.device)
+    device = resolve_device(train_cfg.device)
     torch.set_num_threads(train_cfg.threads)
     init_from = Path(init_from) if init_from is not None else None
     initial = load_model(init_from, device) if init_from is not None else None  # missing/corrupt: says so first
     sizes = [len(ds) for ds in train_sets]
     key = run_key(model_cfg, train_cfg, seed=seed, phase=phase, epochs=epochs, sizes=sizes, init_from=init_from,
                   code=training_code([*train_sets, *val_sets]), inputs=inputs)
+    steps_per_epoch = -(-train_cfg.examples_per_epoch // train_cfg.batch_size)
 
     torch.manual_seed(seed)  # layer initialisation of phase 1
     model = build_model(model_cfg, context_pairs=context_pairs, device=device)
     optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
     rows: list[dict] = []
+    best = {"epoch": 0, "val_loss": float("inf"), "weights": None}
     checkpoint_path = out_dir / "checkpoint.pt"
     checkpoint = resume_checkpoint(checkpoint_path, key, device)
     if checkpoint is not None:
         model.load_state_dict(checkpoint["weights"])
         optimiser.load_state_dict(checkpoint["optimiser"])
-        rows = checkpoint["log"]
+        rows, best = checkpoint["log"], checkpoint["best"]
     elif initial is not None:
         model.load_state_dict(initial.state_dict())
+
+    def stalled() -> bool:
+        return len(rows) - best["epoch"] >= train_cfg.patience
 
     bar = tqdm(range(len(rows), epochs), desc=f"PACER {phase}", disable=not progress, initial=len(rows),
                total=epochs)
     for epoch in bar:
+        if stalled():
+            break
         model.train()
         for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
             if hasattr(ds, "set_epoch"):
                 ds.set_epoch(epoch)
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
-        for start in range(0, len(draws), train_cfg.batch_size):
-            items = [train_sets[d][i] for d, i in draws[start:start + train_cfg.batch_size]]
-            loss = batch_loss(model, collate(items), device)
+        for k, batch in enumerate(epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers)):
+            for group in optimiser.param_groups:
+                group["lr"] = cosine_lr(epoch * steps_per_epoch + k, epochs * steps_per_epoch, train_cfg.lr,
+                                        train_cfg.lr_final_fraction)
+            loss = batch_loss(model, batch, device)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
             losses.append(loss.item())
         val = validation_loss(model, val_sets, train_cfg.batch_size, device)
         rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val})
-        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}")
+        if val < best["val_loss"]:
+            best = {"epoch": epoch + 1, "val_loss": val,
+                    "weights": {k: v.detach().clone() for k, v in model.state_dict().items()}}
+        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}", best=best["epoch"])
         save_torch(checkpoint_path, {"key": key, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
-               "log": rows})
+                                     "log": rows, "best": best})
         _write_log(rows, out_dir / "val_loss.tsv")
 
     _write_log(rows, out_dir / "val_loss.tsv")
+    if best["weights"] is not None:
+        model.load_state_dict(best["weights"])
+    write_json(out_dir / "summary.json", {
+        "phase": phase, "epochs_run": len(rows), "max_epochs": epochs, "stopped_early": len(rows) < epochs,
+        "best_epoch": best["epoch"], "best_val_loss": best["val_loss"] if best["weights"] is not None else None,
+        "entropy_floor": entropy_floor(val_sets), "steps": len(rows) * steps_per_epoch,
+    })
     model_path = out_dir / "model.pt"
     save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
-                            "weights": model.state_dict(), "phase": phase, "epochs": len(rows)})
+                            "weights": model.state_dict(), "phase": phase, "epochs": len(rows),
+                            "best_epoch": best["epoch"]})
     return model_path
+

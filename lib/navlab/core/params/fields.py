@@ -2,7 +2,7 @@
 
 from dataclasses import field
 
-PROFILES = ("smoke", "default", "paper")
+PROFILES = ("smoke", "default", "gpu", "paper")  # gpu: PACER at a CUDA-machine size (pacer only; else default)
 
 
 def between(lo: float | None = None, hi: float | None = None, length: int | None = None, ordered: bool = False):

@@ -65,11 +65,12 @@ class PacerDataParams:
     unseen: dict[str, tuple[str, ...]]
     synthetic: dict[str, tuple[str, ...]]
     realistic_ordering: tuple[str, ...]  # seen + unseen classes, most preferred first
-    tiers: dict[str, tuple[str, ...]]  # low / medium / high -> classes
     context_fraction: float = between(0.05, 0.5)
     image_size: int = between(16)
     patch_size: int = between(4)
     n_pairs: int = between(1)
+    train_context: Literal["in_view", "superset"]  # how training contexts are drawn (superset: as deployed)
+    context_extra: int = between(0, 8)  # superset contexts: terrains beyond those in view
     footprint_texels: tuple[float, ...] = between(8.0, 4096.0, length=2)
     synthetic_replace: float = between(0.0, 1.0)
     layout: PacerLayoutParams
@@ -98,13 +99,16 @@ class PacerPhaseEpochs:
 
 @dataclass(frozen=True)
 class PacerTrainParams:
-    device: Literal["cpu", "cuda"]
-    epochs: PacerPhaseEpochs
+    device: Literal["cpu", "cuda"]  # cuda where torch sees no GPU is one clear error, never a silent CPU run
+    epochs: PacerPhaseEpochs  # the most epochs per phase; early stopping may end a phase sooner
     examples_per_epoch: int = between(1)  # drawn uniformly over the phase's datasets (Sec. V-C)
     val_examples: int = between(1)  # first items of each of the phase's validation sets, per epoch
     batch_size: int = between(1)
-    lr: float = between(1e-7, 1.0)
+    lr: float = between(1e-7, 1.0)  # initial learning rate, decayed by a cosine over the phase's epochs
+    lr_final_fraction: float = between(0.0, 1.0)  # the cosine ends at lr * this
+    patience: int = between(1)  # stop a phase after this many epochs without a lower validation loss
     threads: int = between(1, 64)  # torch CPU threads; 1 on shared machines (oversubscription stalls)
+    workers: int = between(0, 64)  # DataLoader processes rendering training items (0: in the main process)
 
 
 @dataclass(frozen=True)
@@ -123,7 +127,8 @@ class PacerSterlingParams:
 class PacerClassifierParams:
     channels: tuple[int, ...] = between(1)
     epochs: int = between(1)
-    patches_per_epoch: int = between(1)
+    patches_per_epoch: int = between(1)  # fresh patches every epoch
+    val_patches: int = between(1)  # held-out patches (validation images) choosing the best epoch
     batch_size: int = between(1)
     lr: float = between(1e-7, 1.0)
 

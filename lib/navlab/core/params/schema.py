@@ -17,7 +17,7 @@ __all__ = ["PROFILES", "Params"]
 
 @dataclass(frozen=True)
 class Params:
-    profile: Literal["smoke", "default", "paper"]
+    profile: Literal["smoke", "default", "gpu", "paper"]
     seed: int = between(0)
     data: DataParams
     quickstart: QuickstartParams

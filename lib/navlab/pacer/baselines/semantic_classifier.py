@@ -9,6 +9,7 @@ operator's preference at all (Table II omits it for that reason).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -57,27 +58,59 @@ class SemanticClassifier(torch.nn.Module):
 
 
 def train_classifier(datasets: Sequence[Dataset], cfg: PacerClassifierParams, patch_size: int, seed: int,
-                     device: str = "cpu", progress: bool = True) -> SemanticClassifier:
-    """Fit the patch classifier on centre-labelled patches of the seen-terrain datasets (cross-entropy)."""
-    patches, labels = sample_patches(datasets, cfg.patches_per_epoch * cfg.epochs, patch_size, seed, "classifier")
-    known = sorted(set(labels.tolist()))
-    target = torch.as_tensor([known.index(int(v)) for v in labels])
+                     device: str = "cpu", progress: bool = True,
+                     val_datasets: Sequence[Dataset] = ()) -> tuple[SemanticClassifier, dict]:
+    """Fit the patch classifier on centre-labelled patches of the seen-terrain datasets (cross-entropy).
+
+    Every epoch draws ``patches_per_epoch`` fresh patches; the learning rate decays by a cosine over the
+    epochs. With ``val_datasets`` the weights of the epoch with the best held-out patch accuracy are
+    kept (the classifier is a baseline of its paradigm only if it is trained as well as it can be).
+    Returns (model, {"best_epoch", "val_accuracy", "epochs"}).
+    """
     torch.manual_seed(seed)
-    model = SemanticClassifier(known, cfg.channels, patch_size).to(device)
-    optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
+    known = None
+    model = optimiser = None
+    val = sample_patches(val_datasets, cfg.val_patches, patch_size, seed, "classifier", "val") if val_datasets else None
     gen = torch_generator(seed, "pacer.classifier.batches")
-    model.train()
+    best = {"best_epoch": 0, "val_accuracy": None, "epochs": cfg.epochs}
+    best_weights = None
+    steps = cfg.epochs * -(-cfg.patches_per_epoch // cfg.batch_size)
+    step = 0
     for epoch in tqdm(range(cfg.epochs), desc="classifier", disable=not progress):
-        chunk = slice(epoch * cfg.patches_per_epoch, (epoch + 1) * cfg.patches_per_epoch)
-        x, y = patches[chunk], target[chunk]
+        x, labels = sample_patches(datasets, cfg.patches_per_epoch, patch_size, seed, "classifier", epoch)
+        if model is None:
+            known = sorted(set(labels.tolist()) | (set(val[1].tolist()) if val is not None else set()))
+            model = SemanticClassifier(known, cfg.channels, patch_size).to(device)
+            optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
+        lookup = {lab: k for k, lab in enumerate(known)}
+        y = torch.as_tensor([lookup.get(int(v), -100) for v in labels])  # a label first seen later is skipped
+        model.train()
         order = torch.randperm(len(x), generator=gen)
         for start in range(0, len(x), cfg.batch_size):
+            for group in optimiser.param_groups:
+                group["lr"] = cfg.lr * 0.5 * (1.0 + math.cos(math.pi * step / steps))
             idx = order[start:start + cfg.batch_size]
-            loss = F.cross_entropy(model(x[idx].to(device)), y[idx].to(device))
+            loss = F.cross_entropy(model(x[idx].to(device)), y[idx].to(device), ignore_index=-100)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
-    return model.eval()
+            step += 1
+        if val is not None:
+            accuracy = patch_accuracy(model, *val, device=device)
+            if best["val_accuracy"] is None or accuracy > best["val_accuracy"]:
+                best.update(best_epoch=epoch + 1, val_accuracy=accuracy)
+                best_weights = {k: v.detach().clone() for k, v in model.state_dict().items()}
+    if best_weights is not None:
+        model.load_state_dict(best_weights)
+    return model.eval(), best
+
+
+@torch.no_grad()
+def patch_accuracy(model: SemanticClassifier, patches: torch.Tensor, labels: torch.Tensor, device: str = "cpu") -> float:
+    """Fraction of ``patches`` whose centre label the classifier names."""
+    model.eval()
+    predicted = torch.cat([model(patches[k:k + 512].to(device)).argmax(1).cpu() for k in range(0, len(patches), 512)])
+    return float((torch.as_tensor(model.labels)[predicted] == labels).float().mean())
 
 
 def save_classifier(model: SemanticClassifier, path: str | Path) -> None:
