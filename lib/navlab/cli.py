@@ -6,6 +6,7 @@ Every subcommand has ``--help``. Errors in parameters or data stop with one line
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -108,6 +109,23 @@ def _notebook_run(args) -> int:
     return 0
 
 
+def lab_command(*options: str, notebooks: str | Path | None = None) -> list[str]:
+    """JupyterLab on notebooks/, on loopback only: what `make lab` runs (and the browser test starts).
+
+    Kernels start in each notebook's folder; the notebooks find the checkout's data/, artifacts/ and
+    reports/ themselves (navlab.core.notebooks.resolve_parameters). ``options`` go to ``jupyter lab``.
+    """
+    notebooks = Path(notebooks) if notebooks is not None else repo_root() / "notebooks"
+    root_user = ["--ServerApp.allow_root=True"] if os.geteuid() == 0 else []  # containers, CI: loopback only
+    return [sys.executable, "-m", "jupyter", "lab", "--ServerApp.ip=127.0.0.1",
+            f"--ServerApp.root_dir={notebooks}", *root_user, *options]
+
+
+def _lab(args) -> int:
+    cmd = lab_command(*args.options)
+    os.execv(cmd[0], cmd)  # jupyter takes over the process (and Ctrl-C: it asks before shutting down)
+
+
 def _reports_index(args) -> int:
     from navlab.pipeline.reports import write_index
 
@@ -125,7 +143,7 @@ def _params_show(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
-    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,reports,params}")
+    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,lab,reports,params}")
 
     def profile_arg(p):
         p.add_argument("--profile", choices=PROFILES, default=None,
@@ -163,6 +181,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--output", default=None, help="executed copy (default: artifacts/notebooks/<same path>)")
     folder_args(r, "data", "artifacts", "reports")
     r.set_defaults(func=_notebook_run)
+
+    lab = groups.add_parser("lab", help="JupyterLab on notebooks/ (loopback); profile for Run All: $NAVLAB_PROFILE")
+    lab.add_argument("options", nargs=argparse.REMAINDER, help="passed to `jupyter lab`, e.g. --port 9999")
+    lab.set_defaults(func=_lab)
 
     rep = groups.add_parser("reports", help="report files")
     rep_cmds = rep.add_subparsers(dest="cmd", required=True)
