@@ -56,6 +56,7 @@ class LabRun:
     cells_run: int = 0
     code_cells: int = 0
     screenshot: Path | None = None
+    seconds: dict[str, float] = field(default_factory=dict)  # page load, kernel start, Run All (printed)
 
 
 def check_clean(run: LabRun) -> None:
@@ -163,17 +164,26 @@ _STATE_JS = """() => {
 def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> LabRun:
     """Open ``notebook`` (path under the server's root) in a fresh page, Run All from the menu, wait, read back."""
     page = browser.new_page(viewport={"width": 1400, "height": 1100})
+    clock = [time.monotonic()]
+
+    def lap():
+        clock.append(time.monotonic())
+        return round(clock[-1] - clock[-2], 1)
+
     try:
         page.goto(f"{url}lab/tree/{notebook}?reset&token={token}")
         page.wait_for_selector(".jp-NotebookPanel .jp-Cell", timeout=120_000)
+        load = lap()
         _wait(page, "s.kernel === 'idle'", 120)  # the kernel has started
+        kernel = lap()
         page.locator("#jp-menu-panel .lm-MenuBar-item", has_text="Run").first.click()
         page.locator('.lm-Menu-item[data-command="runmenu:run-all"]').click()
         # done: kernel idle, nothing queued, and every cell ran or one failed (Run All stops there)
         state = _wait(page, "s.kernel === 'idle' && !s.busy && (s.cells.every(c => c.count !== null) || "
                             "s.cells.some(c => c.outputs.some(o => o.type === 'error')))", STALL_S)
         run = LabRun(notebook, code_cells=len(state["cells"]),
-                     cells_run=sum(c["count"] is not None for c in state["cells"]))
+                     cells_run=sum(c["count"] is not None for c in state["cells"]),
+                     seconds={"page load": load, "kernel start": kernel, "Run All": lap()})
         for cell in state["cells"]:
             run.errors += [(o["ename"], o["evalue"]) for o in cell["outputs"] if o["type"] == "error"]
             run.images += sum(o["image"] for o in cell["outputs"])
@@ -226,6 +236,7 @@ def test_run_all_in_jupyterlab(notebook, browser, lab):
     before = notebook.read_bytes()
     rel = notebook.relative_to("notebooks").as_posix()
     run = run_all(browser, url, token, rel, SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", ".png"))
+    print(f"{notebook}: {run.seconds}")
     check_clean(run)
     assert notebook.read_bytes() == before, f"{notebook} was modified by the browser run"
     for table in reports.rglob("*.json"):  # the kernel ran the smoke profile it was given
