@@ -27,8 +27,8 @@ import pytest
 
 import navlab
 from navlab.cli import lab_command
-from navlab.core.notebooks import ENVIRONMENT, PARAMETERS_CELL, RESOLVE_LINES, discover
 from navlab.core.params import repo_root
+from navlab.pipeline.notebooks import ENVIRONMENT, PARAMETERS_CELL, RESOLVE_LINES, discover
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -89,7 +89,8 @@ def browser():
 def jupyter_lab(tmp: Path, env: dict[str, str], notebooks: Path | None = None):
     """`make lab`'s command on a free loopback port with a fresh token and clean Jupyter folders; yields its URL."""
     token = secrets.token_hex(16)
-    dirs = {name: tmp / name for name in ("config", "data", "runtime", "ipython", "settings", "workspaces")}
+    dirs = {name: tmp / name for name in ("config", "data", "runtime", "ipython", "settings", "workspaces",
+                                          "checkpoints")}
     for folder in dirs.values():
         folder.mkdir(parents=True)
     for rel, settings in LAB_SETTINGS.items():
@@ -103,6 +104,7 @@ def jupyter_lab(tmp: Path, env: dict[str, str], notebooks: Path | None = None):
     cmd = lab_command("--no-browser", "--ServerApp.port=0", f"--IdentityProvider.token={token}",
                       f"--LabApp.user_settings_dir={dirs['settings']}",
                       f"--LabApp.workspaces_dir={dirs['workspaces']}",
+                      f"--FileCheckpoints.root_dir={dirs['checkpoints']}",  # no .ipynb_checkpoints/ in notebooks/
                       "--LabApp.expose_app_in_browser=True",  # window.jupyterapp: read the notebook model
                       notebooks=notebooks)
     log = (tmp / "lab.log").open("wb")
@@ -233,12 +235,13 @@ def lab(tmp_path_factory, smoke_data, smoke_artifacts):
 @pytest.mark.parametrize("notebook", discover(), ids=str)
 def test_run_all_in_jupyterlab(notebook, browser, lab):
     url, token, reports = lab
-    before = notebook.read_bytes()
+    before, folder = notebook.read_bytes(), sorted(notebook.parent.iterdir())
     rel = notebook.relative_to("notebooks").as_posix()
     run = run_all(browser, url, token, rel, SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", ".png"))
     print(f"{notebook}: {run.seconds}")
     check_clean(run)
     assert notebook.read_bytes() == before, f"{notebook} was modified by the browser run"
+    assert sorted(notebook.parent.iterdir()) == folder, f"the browser run wrote into {notebook.parent}"
     for table in reports.rglob("*.json"):  # the kernel ran the smoke profile it was given
         assert json.loads(table.read_text())["profile"] == "smoke", f"{table} not written with the smoke profile"
 

@@ -2,8 +2,8 @@
 
 import pytest
 
-from navlab.pipeline.notebooks import ENVIRONMENT, resolve_parameters
 from navlab.core.params import ParamsError, load_params, repo_root
+from navlab.pipeline.notebooks import ENVIRONMENT, resolve_parameters
 
 
 @pytest.fixture

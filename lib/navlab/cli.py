@@ -113,7 +113,7 @@ def lab_command(*options: str, notebooks: str | Path | None = None) -> list[str]
     """JupyterLab on notebooks/, on loopback only: what `make lab` runs (and the browser test starts).
 
     Kernels start in each notebook's folder; the notebooks find the checkout's data/, artifacts/ and
-    reports/ themselves (navlab.core.notebooks.resolve_parameters). ``options`` go to ``jupyter lab``.
+    reports/ themselves (navlab.pipeline.notebooks.resolve_parameters). ``options`` go to ``jupyter lab``.
     """
     notebooks = Path(notebooks) if notebooks is not None else repo_root() / "notebooks"
     root_user = ["--ServerApp.allow_root=True"] if os.geteuid() == 0 else []  # containers, CI: loopback only
