@@ -199,12 +199,19 @@ def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> L
             page.locator(".jp-Notebook .jp-CodeCell").nth(failed[0]).scroll_into_view_if_needed()
         elif images.count():
             images.last.scroll_into_view_if_needed()
-        screenshot.parent.mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(screenshot))
-        run.screenshot = screenshot
+        run.screenshot = _screenshot(page, screenshot)
         return run
+    except Exception:
+        _screenshot(page, screenshot)  # what the page showed when it hung or broke
+        raise
     finally:
         page.close()  # the server's shutdown (fixture teardown) stops the kernels
+
+
+def _screenshot(page, path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(path))
+    return path
 
 
 def _wait(page, condition: str, timeout_s: float) -> dict:
