@@ -24,7 +24,7 @@ test: setup
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest
 
 lab: setup
-	$(BIN)/jupyter lab notebooks/
+	$(BIN)/python -m navlab lab
 
 clean-venv:
 	rm -rf $(VENV)

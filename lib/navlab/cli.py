@@ -6,6 +6,7 @@ Every subcommand has ``--help``. Errors in parameters or data stop with one line
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -31,8 +32,8 @@ def artifact_steps():
     """
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.precompute import build_hj_grids
-    from navlab.surenav.episodes import build_episodes
     from navlab.surenav.artifacts import artifact_steps as surenav_steps
+    from navlab.surenav.episodes import build_episodes
 
     return [
         ("hj_grids", build_hj_grids),
@@ -129,6 +130,23 @@ def _notebook_run(args) -> int:
     return 0
 
 
+def lab_command(*options: str, notebooks: str | Path | None = None) -> list[str]:
+    """JupyterLab on notebooks/, on loopback only: what `make lab` runs (and the browser test starts).
+
+    Kernels start in each notebook's folder; the notebooks find the checkout's data/, artifacts/ and
+    reports/ themselves (navlab.pipeline.notebooks.resolve_parameters). ``options`` go to ``jupyter lab``.
+    """
+    notebooks = Path(notebooks) if notebooks is not None else repo_root() / "notebooks"
+    root_user = ["--ServerApp.allow_root=True"] if os.geteuid() == 0 else []  # containers, CI: loopback only
+    return [sys.executable, "-m", "jupyter", "lab", "--ServerApp.ip=127.0.0.1",
+            f"--ServerApp.root_dir={notebooks}", *root_user, *options]
+
+
+def _lab(args) -> int:
+    cmd = lab_command(*args.options)
+    os.execv(cmd[0], cmd)  # jupyter takes over the process (and Ctrl-C: it asks before shutting down)
+
+
 def _reports_index(args) -> int:
     from navlab.pipeline.reports import write_index
 
@@ -172,7 +190,7 @@ def _params_show(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
-    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,reports,params}")
+    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,lab,reports,params}")
 
     def profile_arg(p):
         p.add_argument("--profile", choices=PROFILES, default=None,
@@ -217,6 +235,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--reports-dir", default=None, help="report folder (default: reports for the profile of "
                                                        "params.yaml, else artifacts/reports/<profile>)")
     r.set_defaults(func=_notebook_run)
+
+    lab = groups.add_parser("lab", help="JupyterLab on notebooks/ (loopback); profile for Run All: $NAVLAB_PROFILE")
+    lab.add_argument("options", nargs=argparse.REMAINDER, help="passed to `jupyter lab`, e.g. --port 9999")
+    lab.set_defaults(func=_lab)
 
     rep = groups.add_parser("reports", help="report files")
     rep_cmds = rep.add_subparsers(dest="cmd", required=True)

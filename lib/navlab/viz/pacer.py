@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 
@@ -50,6 +49,8 @@ def show_paths(ax, image, paths: Sequence[tuple[np.ndarray, str, str]], start=No
 
 
 def save(fig, path) -> None:
-    """PNG at a fixed dpi (figures are regenerated, not versioned)."""
+    """PNG at a fixed dpi (figures are regenerated, not versioned).
+
+    The figure stays open so that a notebook shows it under the cell; the inline backend closes it then.
+    """
     fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)

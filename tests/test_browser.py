@@ -1,0 +1,273 @@
+"""Every notebook runs top to bottom in JupyterLab, started as `make lab` starts it, driven in Chromium.
+
+What a person does: open the notebook in JupyterLab, Run > Run All Cells, wait for the kernel to go
+idle. The smoke profile and the smoke dataset/artefacts (conftest fixtures) reach the interactive
+kernel through the environment variables that ``resolve_parameters`` reads ($NAVLAB_PROFILE, ...).
+The test fails on any error output and on a figure that did not render, and leaves one screenshot
+per notebook in .screenshots/browser/ (gitignored). A tiny notebook that raises checks that an error
+is caught. Chromium is Debian's (`apt-get install -y chromium`; .ci/run installs it), launched by
+Playwright; without it the tests skip and say so.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import secrets
+import signal
+import subprocess
+import time
+import urllib.request
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import nbformat
+import pytest
+
+import navlab
+from navlab.cli import lab_command
+from navlab.core.params import repo_root
+from navlab.pipeline.notebooks import ENVIRONMENT, PARAMETERS_CELL, RESOLVE_LINES, discover
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+SCREENSHOTS = repo_root() / ".screenshots" / "browser"
+STALL_S = 900  # hang guard only (a smoke notebook takes seconds); not a speed limit
+# JupyterLab settings of the clean settings folder: no autosave (the checkout's notebooks stay as
+# committed) and no news / update checks (no network).
+LAB_SETTINGS = {
+    "@jupyterlab/docmanager-extension/plugin.jupyterlab-settings": {"autosave": False},
+    "@jupyterlab/apputils-extension/notification.jupyterlab-settings": {"fetchNews": "false",
+                                                                        "checkForUpdates": False},
+}
+pytestmark = pytest.mark.browser
+
+
+@dataclass
+class LabRun:
+    """What Run All left in one notebook: (ename, evalue) of each error output, figures, cells run."""
+
+    notebook: str
+    errors: list[tuple[str, str]] = field(default_factory=list)
+    images: int = 0
+    images_rendered: int = 0
+    cells_run: int = 0
+    code_cells: int = 0
+    screenshot: Path | None = None
+    seconds: dict[str, float] = field(default_factory=dict)  # page load, kernel start, Run All (printed)
+
+
+def check_clean(run: LabRun) -> None:
+    """The pass criterion: no error output, every cell ran, at least one figure and all of them drawn."""
+    where = f"{run.notebook} in JupyterLab (screenshot: {run.screenshot})"
+    assert not run.errors, f"{where}: error output " + "; ".join(f"{n}: {v}" for n, v in run.errors)
+    assert run.cells_run == run.code_cells, f"{where}: only {run.cells_run} of {run.code_cells} code cells ran"
+    assert run.images > 0, f"{where}: no figure in the outputs"
+    assert run.images_rendered == run.images, f"{where}: {run.images - run.images_rendered} figures not drawn"
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if not os.access(CHROMIUM, os.X_OK):
+        pytest.skip(f"{CHROMIUM} not found: install Debian's Chromium (`apt-get install -y chromium`, as .ci/run "
+                    "does) to run the JupyterLab browser tests")
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        pytest.skip("playwright is not installed: `pip install -r environment.txt` (make setup)")
+    with sync_playwright() as pw:
+        chromium = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_FLAGS, headless=True)
+        try:
+            yield chromium
+        finally:
+            chromium.close()
+
+
+@contextlib.contextmanager
+def jupyter_lab(tmp: Path, env: dict[str, str], notebooks: Path | None = None):
+    """`make lab`'s command on a free loopback port with a fresh token and clean Jupyter folders; yields its URL."""
+    token = secrets.token_hex(16)
+    dirs = {name: tmp / name for name in ("config", "data", "runtime", "ipython", "settings", "workspaces",
+                                          "checkpoints")}
+    for folder in dirs.values():
+        folder.mkdir(parents=True)
+    for rel, settings in LAB_SETTINGS.items():
+        (dirs["settings"] / rel).parent.mkdir(parents=True, exist_ok=True)
+        (dirs["settings"] / rel).write_text(json.dumps(settings))
+    lib = str(Path(navlab.__file__).resolve().parents[1])  # this checkout's library, in the kernels too
+    env = {**os.environ, **env, "JUPYTER_CONFIG_DIR": str(dirs["config"]), "JUPYTER_DATA_DIR": str(dirs["data"]),
+           "JUPYTER_RUNTIME_DIR": str(dirs["runtime"]), "IPYTHONDIR": str(dirs["ipython"]),
+           "PYTHONPATH": os.pathsep.join([lib, *filter(None, [os.environ.get("PYTHONPATH")])])}
+    env.pop("MPLBACKEND", None)
+    cmd = lab_command("--no-browser", "--ServerApp.port=0", f"--IdentityProvider.token={token}",
+                      f"--LabApp.user_settings_dir={dirs['settings']}",
+                      f"--LabApp.workspaces_dir={dirs['workspaces']}",
+                      f"--FileCheckpoints.root_dir={dirs['checkpoints']}",  # no .ipynb_checkpoints/ in notebooks/
+                      "--LabApp.expose_app_in_browser=True",  # window.jupyterapp: read the notebook model
+                      notebooks=notebooks)
+    log = (tmp / "lab.log").open("wb")
+    proc = subprocess.Popen(cmd, cwd=repo_root(), env=env, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+    url = None
+    try:
+        url = _wait_for_server(proc, token, dirs["runtime"], tmp / "lab.log")
+        yield url, token
+    finally:
+        if url is not None:  # shut the kernels down cleanly, then the server
+            with contextlib.suppress(OSError):
+                _api(url, token, "shutdown", method="POST")
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        log.close()
+
+
+def _api(url: str, token: str, path: str, method: str = "GET") -> bytes:
+    req = urllib.request.Request(f"{url}api/{path}", method=method, headers={"Authorization": f"token {token}"})
+    with urllib.request.urlopen(req, timeout=10) as response:
+        return response.read()
+
+
+def _wait_for_server(proc, token: str, runtime: Path, log: Path) -> str:
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            raise RuntimeError(f"jupyter lab exited ({proc.returncode}):\n{log.read_text()[-2000:]}")
+        for info in runtime.glob("jpserver-*.json"):
+            with contextlib.suppress(ValueError, OSError):
+                url = json.loads(info.read_text())["url"]
+                _api(url, token, "status")
+                return url
+        time.sleep(0.3)
+    raise RuntimeError(f"jupyter lab did not start within 120 s:\n{log.read_text()[-2000:]}")
+
+
+# The notebook panel's model, read through the app JupyterLab exposes: per code cell its execution
+# count and outputs (types, error names, image outputs).
+_STATE_JS = """() => {
+  const nb = window.jupyterapp && window.jupyterapp.shell.currentWidget;
+  if (!nb || !nb.content || !nb.sessionContext) return null;
+  const kernel = nb.sessionContext.session && nb.sessionContext.session.kernel;
+  const cells = nb.content.widgets.filter(c => c.model.type === 'code');
+  return {
+    kernel: kernel ? kernel.status : 'none',
+    busy: cells.some(c => c.promptNode && c.promptNode.textContent.includes('*')),
+    cells: cells.map(c => ({count: c.model.executionCount,
+                            outputs: c.model.outputs.toJSON().map(o => ({type: o.output_type, ename: o.ename,
+                              evalue: o.evalue, image: !!(o.data && o.data['image/png'])}))})),
+  };
+}"""
+
+
+def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> LabRun:
+    """Open ``notebook`` (path under the server's root) in a fresh page, Run All from the menu, wait, read back."""
+    page = browser.new_page(viewport={"width": 1400, "height": 1100})
+    clock = [time.monotonic()]
+
+    def lap():
+        clock.append(time.monotonic())
+        return round(clock[-1] - clock[-2], 1)
+
+    try:
+        page.goto(f"{url}lab/tree/{notebook}?reset&token={token}")
+        page.wait_for_selector(".jp-NotebookPanel .jp-Cell", timeout=120_000)
+        load = lap()
+        _wait(page, "s.kernel === 'idle'", 120)  # the kernel has started
+        kernel = lap()
+        page.locator("#jp-menu-panel .lm-MenuBar-item", has_text="Run").first.click()
+        page.locator('.lm-Menu-item[data-command="runmenu:run-all"]').click()
+        # done: kernel idle, nothing queued, and every cell ran or one failed (Run All stops there)
+        state = _wait(page, "s.kernel === 'idle' && !s.busy && (s.cells.every(c => c.count !== null) || "
+                            "s.cells.some(c => c.outputs.some(o => o.type === 'error')))", STALL_S)
+        run = LabRun(notebook, code_cells=len(state["cells"]),
+                     cells_run=sum(c["count"] is not None for c in state["cells"]),
+                     seconds={"page load": load, "kernel start": kernel, "Run All": lap()})
+        for cell in state["cells"]:
+            run.errors += [(o["ename"], o["evalue"]) for o in cell["outputs"] if o["type"] == "error"]
+            run.images += sum(o["image"] for o in cell["outputs"])
+        images = page.locator(".jp-OutputArea-output img")
+        for i in range(images.count()):  # scrolled into view, as a reader sees each figure
+            images.nth(i).scroll_into_view_if_needed()
+            run.images_rendered += images.nth(i).evaluate("img => img.decode().then(() => img.naturalWidth > 0, "
+                                                          "() => false)")
+        failed = [i for i, c in enumerate(state["cells"]) if any(o["type"] == "error" for o in c["outputs"])]
+        if failed:  # the screenshot shows the error, else the last figure
+            page.locator(".jp-Notebook .jp-CodeCell").nth(failed[0]).scroll_into_view_if_needed()
+        elif images.count():
+            images.last.scroll_into_view_if_needed()
+        run.screenshot = _screenshot(page, screenshot)
+        return run
+    except Exception:
+        _screenshot(page, screenshot)  # what the page showed when it hung or broke
+        raise
+    finally:
+        page.close()  # the server's shutdown (fixture teardown) stops the kernels
+
+
+def _screenshot(page, path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(path))
+    return path
+
+
+def _wait(page, condition: str, timeout_s: float) -> dict:
+    """Poll the notebook state until ``condition`` (JS over ``s``) holds; a dead kernel fails at once."""
+    deadline = time.monotonic() + timeout_s
+    state = None
+    while time.monotonic() < deadline:
+        state = page.evaluate(_STATE_JS)
+        if state is not None:
+            assert state["kernel"] != "dead", "the kernel died"
+            if page.evaluate(f"s => {condition}", state):
+                return state
+        time.sleep(0.5)
+    raise AssertionError(f"notebook still running after {timeout_s} s (hang guard); last state {state}")
+
+
+@pytest.fixture(scope="module")
+def lab(tmp_path_factory, smoke_data, smoke_artifacts):
+    """The checkout's JupyterLab; kernels get the smoke profile, data and artefacts and a temporary reports/."""
+    tmp = tmp_path_factory.mktemp("lab")
+    env = {ENVIRONMENT["profile"]: "smoke", ENVIRONMENT["data_dir"]: str(smoke_data),
+           ENVIRONMENT["artifacts_dir"]: str(smoke_artifacts), ENVIRONMENT["reports_dir"]: str(tmp / "reports")}
+    with jupyter_lab(tmp, env) as (url, token):
+        yield url, token, tmp / "reports"
+
+
+@pytest.mark.notebook
+@pytest.mark.parametrize("notebook", discover(), ids=str)
+def test_run_all_in_jupyterlab(notebook, browser, lab):
+    url, token, reports = lab
+    before, folder = notebook.read_bytes(), sorted(notebook.parent.iterdir())
+    rel = notebook.relative_to("notebooks").as_posix()
+    run = run_all(browser, url, token, rel, SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", ".png"))
+    print(f"{notebook}: {run.seconds}")
+    check_clean(run)
+    assert notebook.read_bytes() == before, f"{notebook} was modified by the browser run"
+    assert sorted(notebook.parent.iterdir()) == folder, f"the browser run wrote into {notebook.parent}"
+    for table in reports.rglob("*.json"):  # the kernel ran the smoke profile it was given
+        assert json.loads(table.read_text())["profile"] == "smoke", f"{table} not written with the smoke profile"
+
+
+def test_a_failing_cell_fails_the_check(browser, tmp_path):
+    """A notebook that draws a figure and then raises: the error is read back and check_clean fails on it."""
+    folder = tmp_path / "notebooks"
+    folder.mkdir()
+    nb = nbformat.v4.new_notebook(metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
+                                                           "language": "python"}})
+    nb.cells = [nbformat.v4.new_code_cell(PARAMETERS_CELL, metadata={"tags": ["parameters"]}),
+                nbformat.v4.new_code_cell(RESOLVE_LINES),
+                nbformat.v4.new_code_cell("import matplotlib.pyplot as plt\nplt.plot([0, 1], [1, 0])"),
+                nbformat.v4.new_code_cell("raise RuntimeError('broken on purpose')"),
+                nbformat.v4.new_code_cell("print('never reached')")]
+    nbformat.write(nb, folder / "broken.ipynb")
+    with jupyter_lab(tmp_path / "lab", {ENVIRONMENT["profile"]: "smoke"}, notebooks=folder) as (url, token):
+        run = run_all(browser, url, token, "broken.ipynb", tmp_path / "broken.png")
+    assert run.errors == [("RuntimeError", "broken on purpose")]
+    assert (run.images, run.images_rendered, run.cells_run, run.code_cells) == (1, 1, 4, 5)
+    with pytest.raises(AssertionError, match="error output RuntimeError: broken on purpose"):
+        check_clean(run)
