@@ -50,7 +50,7 @@ def check_resolution(resolution: float) -> float:
     """``resolution`` (metres per cell) as a float, or a ValueError when it is not a positive number."""
     resolution = float(resolution)
     if not (math.isfinite(resolution) and resolution > 0):
-        raise ValueError(f"resolution must be a positive number of metres per cell, got {resolution}")
+        raise ValueError(f"resolution = {resolution}: give the cell size in metres, a finite number > 0")
     return resolution
 
 
