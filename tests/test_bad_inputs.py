@@ -37,7 +37,7 @@ def test_grid_astar_refuses_a_bad_resolution(resolution):
 @pytest.mark.parametrize("edit, message", [
     (("lr: {smoke: 0.003", "lr: {smoke: .nan"), "pacer.train.lr = nan: expected a finite number"),
     (("cfl: 0.75", "cfl: .inf"), "hj.grids.solver.cfl = inf: expected a finite number"),
-    (("  train:\n    device: cpu", "  train:\n    device: cpuu"), "pacer.train.device = 'cpuu'"),
+    (("  train:\n    device: {smoke: cpu", "  train:\n    device: {smoke: cpuu"), "pacer.train.device = 'cpuu'"),
 ])
 def test_params_refuse_non_finite_numbers_and_unknown_devices(tmp_path, edit, message):
     text = Path("params.yaml").read_text()

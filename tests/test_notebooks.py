@@ -81,17 +81,23 @@ def _needs_artifacts(notebook) -> bool:
 @pytest.mark.notebook
 @pytest.mark.parametrize("notebook", NOTEBOOKS, ids=str)
 def test_missing_input_names_the_command_in_one_line(notebook, smoke_data, tmp_path):
-    """Before `make repro` has built an artefact (or data/), the notebook stops with the command that builds it."""
-    from papermill.exceptions import PapermillExecutionError
+    """Before `make repro` has built an artefact (or data/), the notebook stops with the command that builds it,
+    and the kept executed notebook (``*.failed.ipynb``) shows it as a one-line error output."""
+    import nbformat
+
+    from navlab.core.io import DataError
 
     empty = tmp_path / "empty"
     artifacts = _needs_artifacts(notebook)
-    with pytest.raises(PapermillExecutionError) as err:
+    with pytest.raises(DataError, match="failed in cell"):
         run_notebook(notebook, profile="smoke", output=tmp_path / "executed.ipynb",
                      data_dir=smoke_data if artifacts else empty, artifacts_dir=empty,
                      reports_dir=tmp_path / "reports", progress=False)
-    message = err.value.evalue
-    assert err.value.ename == "DataError", f"{notebook}: {err.value.ename}: {message}"
+    executed = nbformat.read(tmp_path / "executed.failed.ipynb", as_version=4)
+    errors = [o for c in executed.cells if c.cell_type == "code" for o in c.get("outputs", []) if o.output_type == "error"]
+    assert len(errors) == 1, f"{notebook}: {len(errors)} error outputs"
+    error, message = errors[0], errors[0].evalue
+    assert error.ename == "DataError", f"{notebook}: {error.ename}: {message}"
     assert str(empty) in message
     assert ("`python -m navlab artifacts build --only " if artifacts else "`python -m navlab data build") in message
-    assert err.value.traceback == [f"DataError: {message}"]  # the error output: one line, no traceback
+    assert error.traceback == [f"DataError: {message}"]  # the error output: one line, no traceback

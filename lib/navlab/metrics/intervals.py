@@ -25,7 +25,7 @@ def bootstrap_mean_ci(values: np.ndarray, rng: np.random.Generator, resamples: i
     if len(values) == 0:
         raise ValueError("bootstrap_mean_ci needs at least one value (one per environment)")
     if not np.isfinite(values).all():
-        raise ValueError("bootstrap_mean_ci: values must be finite; drop or report missing environments first")
+        raise ValueError("bootstrap_mean_ci: values hold NaN or inf; drop or report missing environments first")
     if not 0.0 < level < 1.0:
         raise ValueError(f"level {level}: a confidence level lies strictly between 0 and 1")
     means = values[rng.integers(0, len(values), size=(resamples, len(values)))].mean(axis=1)

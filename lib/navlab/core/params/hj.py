@@ -172,5 +172,6 @@ class PlannerParams:
 
 @dataclass(frozen=True)
 class HJParams:
+    seed: int = between(0)
     grids: GridsParams
     planner: PlannerParams
