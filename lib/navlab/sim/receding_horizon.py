@@ -1,0 +1,192 @@
+"""Receding-horizon execution of a 4D Dubins car among moving humans (HJ-search paper Sec. VIII-A).
+
+The paper's robot re-plans at 12 Hz and its controller executes the first commands of each plan at
+25 Hz, unmodified. This module does the same in simulated time: the clock ticks at the control rate;
+whenever a re-plan is due the planner gets a (noisy) observation and returns a sequence of (a, ω)
+commands, each held for the planner's step ``dt``; the car integrates the command in force at every
+tick under the paper's Eq. (19) (``search.dubins_lattice.integrate``). A planner that finds no plan
+returns an empty sequence and the car brakes with ``a_min`` and ω = 0 (an emergency stop).
+
+A trip from one goal to the next ends as the paper scores it (Sec. VIII-A): success when the car is
+within the goal tolerance; failure on a collision with a static obstacle, a *deadlock* (no progress of
+``deadlock_progress_m`` towards the goal within ``deadlock_s``) or a timeout. A failed trip is an
+"external intervention": the car is put down, stopped, at that trip's goal and the patrol goes on.
+Contacts with humans (robot disc overlapping a human disc) are counted, each contact once, and make the
+trip unsuccessful without stopping it, so Table IX's collision counts and times can both be read off.
+
+Planning time is measured (wall clock) and recorded but does not delay the commands: the planner's
+budget is deterministic (expansions), so a seeded run gives the same numbers on any machine.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+
+from navlab.search.dubins_lattice import integrate
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What the planner sees at a re-plan: noisy poses, the current goal, the time."""
+
+    time: float
+    robot: np.ndarray  # (4,) x, y, v, θ (pose noise added)
+    goal: tuple[float, float]
+    humans: np.ndarray  # (H, 2) observed positions (noise added)
+    human_velocities: np.ndarray  # (H, 2) finite-difference estimates from the last two observations
+
+
+class Planner(Protocol):
+    dt: float  # s each returned command is held
+
+    def __call__(self, observation: Observation) -> np.ndarray: ...  # (K, 2) (a, ω); empty: no plan
+
+
+class Human(Protocol):
+    position: np.ndarray
+    velocity: np.ndarray
+
+    def step(self, dt: float, robot_xy: np.ndarray, robot_speed: float) -> None: ...
+
+
+@dataclass(frozen=True)
+class SimSettings:
+    replan_hz: float = 12.0
+    control_hz: float = 25.0
+    robot_radius: float = 0.285
+    human_radius: float = 0.3
+    v_max: float = 1.0
+    a_min: float = -0.5
+    goal_tolerance: float = 0.25
+    trip_timeout_s: float = 60.0
+    deadlock_s: float = 10.0
+    deadlock_progress_m: float = 0.3
+    pose_noise_m: float = 0.0  # std of the robot's own position estimate (the rooms: localisation)
+    human_noise_m: float = 0.0  # std of each observed human position
+
+    def __post_init__(self):
+        for name in ("replan_hz", "control_hz", "robot_radius", "v_max", "goal_tolerance", "trip_timeout_s",
+                     "deadlock_s", "deadlock_progress_m"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"SimSettings.{name} must be a positive finite number, got {value}")
+        if not (self.human_radius >= 0 and self.pose_noise_m >= 0 and self.human_noise_m >= 0):
+            raise ValueError("SimSettings: human_radius and the noise levels must be >= 0")
+        if not self.a_min < 0:
+            raise ValueError(f"SimSettings.a_min must be < 0 (braking), got {self.a_min}")
+
+
+@dataclass
+class Trip:
+    start: tuple[float, float]
+    goal: tuple[float, float]
+    outcome: str = "running"  # success | collision | deadlock | timeout
+    time_s: float = 0.0
+    human_contacts: int = 0
+    replans: int = 0
+    failed_replans: int = 0
+
+    @property
+    def success(self) -> bool:
+        return self.outcome == "success" and self.human_contacts == 0
+
+
+@dataclass
+class Run:
+    trips: list[Trip] = field(default_factory=list)
+    trajectory: list[np.ndarray] = field(default_factory=list)  # per tick: (t, x, y, v, θ)
+    humans: list[np.ndarray] = field(default_factory=list)  # per tick: (H, 2)
+    plan_seconds: list[float] = field(default_factory=list)
+    plans: list[tuple[float, np.ndarray]] = field(default_factory=list)  # (time, commands) when kept
+
+    @property
+    def navigation_time(self) -> float:
+        return float(sum(t.time_s for t in self.trips))
+
+    @property
+    def collisions(self) -> int:
+        return int(sum(t.human_contacts for t in self.trips) + sum(t.outcome == "collision" for t in self.trips))
+
+
+def run_patrol(
+    planner: Planner,
+    obstacle_distance: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    start: np.ndarray,
+    goals: Sequence[tuple[float, float]],
+    humans: Sequence[Human],
+    settings: SimSettings,
+    rng: np.random.Generator,
+    *,
+    keep_plans: bool = False,
+) -> Run:
+    """Drive from ``start`` (x, y, v, θ) through ``goals`` in order, one trip per goal.
+
+    ``obstacle_distance(x, y)`` is the signed distance to the static obstacles (negative inside), e.g.
+    ``maps.rooms.Room.obstacle_distance``. The run is a pure function of its arguments and ``rng``.
+    """
+    state = np.asarray(start, dtype=float).copy()
+    if state.shape != (4,) or not np.isfinite(state).all():
+        raise ValueError(f"start must be a finite (x, y, v, θ) state, got {start}")
+    if float(obstacle_distance(state[0], state[1])) < settings.robot_radius:
+        raise ValueError(f"start {tuple(state[:2])} is in collision with a static obstacle; choose a free start")
+    tick = 1.0 / settings.control_hz
+    run, t = Run(), 0.0
+    last_seen: np.ndarray | None = None
+    for goal in goals:
+        goal = (float(goal[0]), float(goal[1]))
+        trip = Trip(start=(float(state[0]), float(state[1])), goal=goal)
+        run.trips.append(trip)
+        commands, plan_time, next_replan = np.zeros((0, 2)), t, t
+        best_dist, best_time, touching = math.hypot(goal[0] - state[0], goal[1] - state[1]), t, False
+        trip_start = t
+        while trip.outcome == "running":
+            if t >= next_replan - 1e-9:
+                seen = np.array([h.position for h in humans], dtype=float).reshape(-1, 2)
+                seen = seen + rng.normal(0.0, settings.human_noise_m, seen.shape) if len(seen) else seen
+                velocities = np.zeros_like(seen) if last_seen is None or len(last_seen) != len(seen) else \
+                    (seen - last_seen) * settings.replan_hz
+                last_seen = seen
+                pose = state.copy()
+                pose[:2] += rng.normal(0.0, settings.pose_noise_m, 2)
+                began = time.perf_counter()
+                commands = np.asarray(planner(Observation(t, pose, goal, seen, velocities)), dtype=float)
+                run.plan_seconds.append(time.perf_counter() - began)
+                trip.replans += 1
+                if len(commands) == 0:
+                    trip.failed_replans += 1
+                elif keep_plans:
+                    run.plans.append((t, commands.copy()))
+                plan_time, next_replan = t, next_replan + 1.0 / settings.replan_hz
+            k = int((t - plan_time + 1e-9) // planner.dt)
+            a, omega = (commands[k] if k < len(commands) else (settings.a_min, 0.0))
+            state = integrate(state, float(a), float(omega), tick, 4, settings.v_max)[-1]
+            t += tick
+            for h in humans:
+                h.step(tick, state[:2], state[2])
+            run.trajectory.append(np.array([t, *state]))
+            run.humans.append(np.array([h.position for h in humans], dtype=float).reshape(-1, 2))
+            gaps = [math.hypot(*(h.position - state[:2])) for h in humans]
+            now_touching = bool(gaps) and min(gaps) < settings.robot_radius + settings.human_radius
+            trip.human_contacts += int(now_touching and not touching)
+            touching = now_touching
+            dist = math.hypot(goal[0] - state[0], goal[1] - state[1])
+            if dist < best_dist - settings.deadlock_progress_m:
+                best_dist, best_time = dist, t
+            if dist <= settings.goal_tolerance:
+                trip.outcome = "success"
+            elif float(obstacle_distance(state[0], state[1])) < settings.robot_radius:
+                trip.outcome = "collision"
+            elif t - best_time > settings.deadlock_s:
+                trip.outcome = "deadlock"
+            elif t - trip_start > settings.trip_timeout_s:
+                trip.outcome = "timeout"
+        trip.time_s = t - trip_start
+        if trip.outcome != "success":  # external intervention: put the car down at the goal, stopped
+            state = np.array([goal[0], goal[1], 0.0, state[3]])
+    return run
