@@ -12,6 +12,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
+
 PAPER = {
     "table1_heuristics_astar": [
         {"method": "A* w/ Dist", "success": 4, "tasks": 4, "nodes": None, "time_s": 414.16, "cost": 5.25},
@@ -52,24 +54,17 @@ PAPER = {
 TABLE3_NODE_REDUCTION = 0.151
 
 
-def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
-    """95 % Wilson score interval of a success rate."""
-    if n == 0:
-        return (math.nan, math.nan)
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return (max(0.0, centre - half), min(1.0, centre + half))
+def wilson(successes: int, n: int) -> tuple[float, float]:
+    """95 % Wilson interval of a success rate (``metrics.intervals``); undefined (NaN) without tasks."""
+    return wilson_ci(successes, n) if n > 0 else (math.nan, math.nan)
 
 
-def bootstrap_mean(values: Sequence[float], seed: int, n_boot: int = 2000) -> tuple[float, tuple[float, float]]:
-    """Mean and 95 % percentile-bootstrap interval over tasks (NaN mean for an empty sample)."""
+def bootstrap_mean(values: Sequence[float], seed: int) -> tuple[float, tuple[float, float]]:
+    """Mean and 95 % percentile-bootstrap interval over tasks (``metrics.intervals``); NaN when empty."""
     x = np.asarray(values, dtype=np.float64)
     if x.size == 0:
         return math.nan, (math.nan, math.nan)
-    rng = np.random.default_rng(seed)
-    means = x[rng.integers(0, x.size, size=(n_boot, x.size))].mean(axis=1)
-    return float(x.mean()), (float(np.quantile(means, 0.025)), float(np.quantile(means, 0.975)))
+    return float(x.mean()), bootstrap_mean_ci(x, np.random.default_rng(seed))
 
 
 def _ci(ci) -> list | None:
