@@ -142,16 +142,22 @@ def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, dia
     return g, parent, pos[goal_i] == -2, expansions
 
 
-def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
-    """Optimal path from ``start`` to ``goal`` (row, col) over ``cost`` (per metre, ``inf`` = blocked)."""
+def padded_problem(cost: np.ndarray, start, goal, resolution: float):
+    """Checked inputs on the grid framed by a border of blocked cells (it replaces the bounds checks; row-major
+    flat indices keep their order, so ties break as on the unframed grid), with start's and goal's flat index:
+    ``(cost, resolution, padded, width, start_i, goal_i)``."""
     cost = check_cost_grid(cost)
     resolution = check_resolution(resolution)
     start, goal = check_cell("start", start, cost), check_cell("goal", goal, cost)
-    rows, cols = cost.shape
-    width = cols + 2
-    padded = np.full((rows + 2, width), np.inf)
+    width = cost.shape[1] + 2
+    padded = np.full((cost.shape[0] + 2, width), np.inf)
     padded[1:-1, 1:-1] = cost
-    start_i, goal_i = (start[0] + 1) * width + start[1] + 1, (goal[0] + 1) * width + goal[1] + 1
+    return cost, resolution, padded, width, (start[0] + 1) * width + start[1] + 1, (goal[0] + 1) * width + goal[1] + 1
+
+
+def plan(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
+    """Optimal path from ``start`` to ``goal`` (row, col) over ``cost`` (per metre, ``inf`` = blocked)."""
+    cost, resolution, padded, width, start_i, goal_i = padded_problem(cost, start, goal, resolution)
     # octile distance (Manhattan when 4-connected) times the cheapest cost per metre: admissible
     g, parent, reached, expansions = _search(
         padded.ravel(), width, start_i, goal_i, resolution * 0.5, resolution * 0.5 * SQRT2, bool(diagonal),

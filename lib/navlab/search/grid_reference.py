@@ -18,10 +18,8 @@ from skimage.graph import MCP_Geometric
 from navlab.search.grid_astar import (
     SQRT2,
     GridPath,
-    check_cell,
-    check_cost_grid,
-    check_resolution,
     octile_scale,
+    padded_problem,
 )
 
 _STRAIGHT = ((-1, 0), (1, 0), (0, -1), (0, 1))
@@ -37,27 +35,21 @@ def dijkstra_cost(cost: np.ndarray, start, goal, *, resolution: float = 1.0) -> 
 
 def astar_reference(cost: np.ndarray, start, goal, *, resolution: float = 1.0, diagonal: bool = True) -> GridPath:
     """``grid_astar.plan`` in plain Python: heap entries (f, g, flat index), lazy deletion."""
-    cost = check_cost_grid(cost)
-    resolution = check_resolution(resolution)
-    start, goal = check_cell("start", start, cost), check_cell("goal", goal, cost)
-    rows, cols = cost.shape
-    width = cols + 2
-    padded = np.full((rows + 2, width), np.inf)
-    padded[1:-1, 1:-1] = cost
+    cost, resolution, padded, width, start_i, goal_i = padded_problem(cost, start, goal, resolution)
     flat_cost = padded.ravel().tolist()
     moves = [(dr * width + dc, resolution * 0.5) for dr, dc in _STRAIGHT]
     if diagonal:
         moves += [(dr * width + dc, resolution * 0.5 * SQRT2) for dr, dc in _DIAGONAL]
     h_scale = octile_scale(cost, resolution)
     h_diagonal = SQRT2 - 1.0 if diagonal else 1.0
-    gr, gc = goal[0] + 1, goal[1] + 1
-    start_i, goal_i = (start[0] + 1) * width + start[1] + 1, gr * width + gc
+    gr, gc = divmod(goal_i, width)
     inf = math.inf
     g = [inf] * len(flat_cost)
     parent = [-1] * len(flat_cost)
     closed = bytearray(len(flat_cost))
     g[start_i] = 0.0
-    dr, dc = abs(start[0] + 1 - gr), abs(start[1] + 1 - gc)
+    sr, sc = divmod(start_i, width)
+    dr, dc = abs(sr - gr), abs(sc - gc)
     frontier = [((max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0, start_i)]
     expansions = 0
     while frontier:
