@@ -113,6 +113,23 @@ def test_context_changes_the_costmap(smoke):
     assert not torch.allclose(out_a, out_b)
 
 
+def test_context_encoder_tells_the_preferred_patch_from_the_other(smoke):
+    """Swapping the two patches of every pair (the inverted context) exchanges the two feature blocks the
+    head reads, so a context and its inversion embed differently."""
+    torch.manual_seed(0)
+    encoder = build_model(smoke.model).context_encoder.eval()
+    context = torch.as_tensor(TinyTerrainSet(1)[0]["context"])[None]
+    swapped = torch.cat(context.chunk(2, dim=2)[::-1], dim=2)
+    seen = []
+    hook = encoder.head.register_forward_hook(lambda module, args, out: seen.append(args[0].detach()))
+    with torch.no_grad():
+        z, z_swapped = encoder(context), encoder(swapped)
+    hook.remove()
+    preferred, other = seen[0].chunk(2, dim=1)
+    assert torch.allclose(seen[1], torch.cat([other, preferred], dim=1), atol=1e-6)
+    assert not torch.allclose(preferred, other, atol=1e-3) and not torch.allclose(z, z_swapped, atol=1e-4)
+
+
 def test_early_stopping_keeps_the_best_validation_checkpoint(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke, lr=0.05, patience=2, lr_final_fraction=0.5)
     train, val = TinyTerrainSet(16), TinyTerrainSet(6, seed=1)

@@ -34,7 +34,15 @@ def conv_block(c_in: int, c_out: int) -> nn.Sequential:
 
 
 class ContextCNN(nn.Module):
-    """F_pref for small models: conv blocks with pooling, global average, one linear layer."""
+    """F_pref for small models: one conv tower (conv blocks with pooling, global average) applied to the
+    preferred half and to the other half of the context, the two features concatenated, one linear layer.
+
+    Why two halves: a global average over the whole stacked (2h, w) context is nearly blind to *which*
+    patch of a pair is on top (convolutions are translation-equivariant; only padding and the seam tell
+    the halves apart), so a context and its inversion embed almost alike and the network falls back on
+    the ordering it saw most (phase 1's realistic one). Pooling each half separately makes "preferred"
+    and "other" distinct inputs of the head by construction.
+    """
 
     def __init__(self, c_in: int, channels: tuple[int, ...], dim: int):
         super().__init__()
@@ -43,10 +51,13 @@ class ContextCNN(nn.Module):
             layers += [conv_block(c, width), nn.MaxPool2d(2)]
             c = width
         self.features = nn.Sequential(*layers)
-        self.head = nn.Linear(c, dim)
+        self.head = nn.Linear(2 * c, dim)
 
     def forward(self, context: torch.Tensor) -> torch.Tensor:
-        return self.head(self.features(context).mean(dim=(2, 3)))
+        h = context.shape[2] // 2
+        halves = torch.cat([context[:, :, :h], context[:, :, h:]])  # (2B, 3n, h, w): preferred, then other
+        pooled = self.features(halves).mean(dim=(2, 3))
+        return self.head(torch.cat(pooled.chunk(2), dim=1))
 
 
 class Bottleneck(nn.Module):
