@@ -91,3 +91,8 @@ def test_agreement_target_sentence():
     met = {("seen", "realistic"): (0.9, (0.85, 0.95)), ("unseen", "inverted"): (0.86, None)}
     assert "is met" in agreement_against_target(met)
     assert "NOT met" in agreement_against_target({**met, ("seen", "inverted"): (0.7, (0.6, 0.8))})
+    summary = {"steps": 1536, "epochs_run": 24, "max_epochs": 24, "stopped_early": False, "best_epoch": 22,
+               "best_val_loss": 0.4123, "entropy_floor": 0.2011}
+    sentence = agreement_against_target(met, summary)
+    assert "1536 optimiser steps" in sentence and "ran every epoch" in sentence
+    assert "0.412 beside the entropy floor 0.201" in sentence

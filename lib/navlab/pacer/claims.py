@@ -192,10 +192,20 @@ def margin_ranking_claims(rows: Sequence[Mapping[str, float]]) -> list[Claim]:
                   order)]
 
 
-def agreement_against_target(agreement: Mapping[tuple[str, str], tuple[float, tuple[float, float] | None]]) -> str:
-    """One sentence: the phase-3 held-out agreement on each (terrains, preference) set beside the target."""
+def agreement_against_target(agreement: Mapping[tuple[str, str], tuple[float, tuple[float, float] | None]],
+                             training: Mapping[str, object] | None = None) -> str:
+    """One sentence: the phase-3 held-out agreement on each (terrains, preference) set beside the target,
+    and, given its ``training`` summary (``summary.json``), how much training it had: optimiser steps,
+    whether early stopping ended it, and its best validation loss beside the entropy floor."""
     parts = [f"{env}/{pref} {frac:.3f}" + (f" [{ci[0]:.3f}, {ci[1]:.3f}]" if ci else "")
              for (env, pref), (frac, ci) in agreement.items()]
     met = all(frac >= AGREEMENT_TARGET for frac, _ in agreement.values())
-    return (f"phase-3 held-out pair agreement with superset contexts: {', '.join(parts)}; the target of "
-            f"{AGREEMENT_TARGET:g} on each set is {'met' if met else 'NOT met'}")
+    sentence = (f"phase-3 held-out pair agreement with superset contexts: {', '.join(parts)}; the target of "
+                f"{AGREEMENT_TARGET:g} on each set is {'met' if met else 'NOT met'}")
+    if training is not None:
+        t = training
+        stop = "stopped early" if t["stopped_early"] else "ran every epoch"
+        sentence += (f" after {t['steps']} optimiser steps in phase 3 ({t['epochs_run']} of {t['max_epochs']} epochs, "
+                     f"{stop}; best epoch {t['best_epoch']}, validation loss {t['best_val_loss']:.3f} beside the "
+                     f"entropy floor {t['entropy_floor']:.3f})")
+    return sentence
