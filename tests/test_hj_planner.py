@@ -186,3 +186,29 @@ def test_compiled_astar_matches_the_plain_python_reference():
         cost, expansions = astar_reference(spec, ROOM.bounds, start, GOAL.xy, GOAL.tolerance, GOAL.max_speed, h, obs)
         assert ours.cost == pytest.approx(cost)
         assert abs(ours.expansions - expansions) <= 0.05 * expansions + 5  # heap ties may break differently
+
+
+def test_cell_minimum_bound_keeps_the_pruner_exact():
+    """The static pruner answers from each cell's corner minimum where it clears the threshold: the bound
+    never exceeds the interpolant, and the decisions equal thresholding the full interpolant."""
+    from navlab.search.lattice_fields import S_BRT, GridField, cell_min
+    from navlab.search.lattice_search import StaticPruner
+
+    rng = np.random.default_rng(3)
+    x, y, v, th = np.meshgrid(np.arange(6) * 0.5, np.arange(5) * 0.5, np.arange(4) * 0.25,
+                              np.arange(8) * math.pi / 4, indexing="ij")
+    # smooth (most cells clear a threshold, the bound answers) plus noise (some straddle it: interpolated)
+    values = (x + y + 0.3 * np.cos(th) + 0.1 * rng.normal(size=x.shape)).astype(np.float32)
+    f = GridField.from_grid(values, (0.0, 0.0, 0.0, -math.pi), (0.5, 0.5, 0.25, 2 * math.pi / 8),
+                            (False, False, False, True))
+    low = cell_min(f).reshape(values.shape)
+    assert low[0, 0, 0, 7] == values[:2, :2, :2, [7, 0]].min()  # the periodic axis wraps
+    samples = np.stack([rng.uniform(0, 2.5, (400, 4)), rng.uniform(0, 2.0, (400, 4)), rng.uniform(0, 0.75, (400, 4)),
+                        rng.uniform(-4, 4, (400, 4))], axis=-1)
+    pruned = []
+    for margin in np.quantile(values, [0.2, 0.35, 0.5, 0.65]):
+        pruner = StaticPruner(S_BRT, f, np.array([margin, -1.0]))
+        exact = (pruner.values(samples.reshape(-1, 4)) <= 0.0).reshape(400, 4).any(axis=1)
+        assert (pruner(samples) == exact).all()
+        pruned.append(exact.sum())
+    assert min(pruned) < 400 and max(pruned) > 0, pruned  # both answers exercised

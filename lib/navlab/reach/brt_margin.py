@@ -6,7 +6,9 @@ positive value to account for numerical approximation errors": we choose m as th
 among the fine grid's unsafe nodes, so the pruner drops every state the finer solve calls unsafe.
 The finer grid refines each axis by an integer factor (``refine``; (n − 1)·f + 1 nodes on bounded axes,
 n·f on the periodic heading), uses the same scheme, horizon and convergence test, and its nodes are
-compared with the stored grid's multilinear interpolant there (the value the pruner actually reads).
+compared with the stored grid's multilinear interpolant there (the value the pruner reads: the compiled
+pruner is tested equal to this numpy look-up, ``reach.pruners.static_prune_reference``). The numpy
+look-up keeps the cached margin independent of the search code: editing the planner does not re-solve.
 
 The result is cached as JSON beside the grids, keyed on the grid's inputs, the factors and the source of
 the modules that compute it.
@@ -26,7 +28,6 @@ from navlab.core.params import Params
 from navlab.maps.rooms import load_room
 from navlab.reach.grid import Grid
 from navlab.reach.precompute import SUBDIR, _car, _settings, load_static_brt, room_obstacle_distance
-from navlab.reach.pruners import static_brt_pruner
 
 CODE = ("navlab.reach.brt_margin",)  # and every navlab module it imports (core.fingerprint)
 
@@ -36,6 +37,17 @@ def refined_grid(grid: Grid, refine: tuple[int, ...]) -> Grid:
         raise ValueError(f"refine {refine}: one integer factor >= 1 per axis of the {grid.ndim}-D grid")
     shape = tuple(n * f if p else (n - 1) * f + 1 for n, f, p in zip(grid.shape, refine, grid.periodic, strict=True))
     return Grid(grid.lo, grid.hi, shape, grid.periodic)
+
+
+def coarse_at_nodes(lookup, fine_grid: Grid, chunk: int = 1 << 20) -> np.ndarray:
+    """The stored grid's interpolant at every node of ``fine_grid`` (C order), a chunk of nodes at a time."""
+    axes = [fine_grid.axis(d) for d in range(fine_grid.ndim)]
+    n = int(np.prod(fine_grid.shape))
+    out = np.empty(n)
+    for a in range(0, n, chunk):
+        idx = np.unravel_index(np.arange(a, min(a + chunk, n)), fine_grid.shape)
+        out[a:a + chunk] = lookup(np.stack([axes[d][i] for d, i in enumerate(idx)], axis=1))
+    return out
 
 
 def margin_from_values(coarse_at_fine: np.ndarray, fine: np.ndarray, band: float = 0.1) -> dict[str, Any]:
@@ -75,8 +87,7 @@ def measure_static_brt_margin(params: Params, artifacts_dir: str | Path, room_na
                      max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
                      settings=_settings(params), device=device, progress=progress, compile=g.compile)
     fine = sol.values.detach().cpu().numpy().astype(np.float64)
-    mesh = np.stack(np.meshgrid(*(fine_grid.axis(d) for d in range(4)), indexing="ij"), -1).reshape(-1, 4)
-    coarse = static_brt_pruner(lookup, 0.0).values(mesh)
+    coarse = coarse_at_nodes(lookup, fine_grid)
     result = margin_from_values(coarse, fine.reshape(-1))
     result.update(coarse_shape=list(lookup.grid.shape), fine_shape=list(fine_grid.shape),
                   scheme=f"{g.solver.scheme}/RK{g.solver.rk_order}", fine_converged=bool(sol.converged))

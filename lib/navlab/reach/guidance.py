@@ -36,7 +36,8 @@ def grid_field(values: np.ndarray, grid) -> GridField:
 
 
 def _par(goal_xy, v_max, tolerance, off_grid=0.0, heading=0.0) -> np.ndarray:
-    return np.array([goal_xy[0], goal_xy[1], heading, v_max, tolerance, off_grid], np.float64)
+    return np.array([goal_xy[0], goal_xy[1], heading, v_max, tolerance, off_grid, math.cos(heading),
+                     math.sin(heading)], np.float64)
 
 
 def dist_heuristic(goal_xy, v_max: float, tolerance: float) -> Heuristic:

@@ -65,101 +65,195 @@ class GridField(NamedTuple):
                    np.zeros(ndim, bool), np.ones(ndim, np.int64))
 
 
-@numba.njit(cache=True)
-def _axis(flo, finv, fshape, fper, fstr, k, x):
-    """Lower corner offset, offset to the upper corner and fraction along axis ``k``."""
-    n = fshape[k]
-    x = (x - flo[k]) * finv[k]
-    if fper[k]:
+# Why the look-ups read a field through ``field_meta`` and the hot ones are ``inline="always"``: profiling
+# the search showed most of a look-up's time went to reference counting, not arithmetic: every call of
+# a compiled function that takes arrays increments and decrements their counts (atomics), and a 4D
+# look-up passed six arrays through five nested calls. Unpacking the field once per kernel into a tuple
+# of scalars and inlining the functions that take arrays (values, par) into the loop that uses them
+# leaves no array-passing call on the hot path; scalar-only helpers are left to LLVM's inliner (inlining
+# everything at numba's level cost minutes of compile time for no measurable gain).
+
+
+@numba.njit(cache=True, error_model="numpy")
+def field_meta(f):
+    """A ``GridField`` as (values, meta): meta = (ndim, lo, inv_spacing, shape, periodic, strides, hi),
+    each a 4-tuple of scalars (axes beyond ``ndim`` padded), ``hi`` the last node's coordinate."""
+    fv, flo, finv, fshape, fper, fstr = f
+    d = flo.shape[0]
+    lo = (flo[0], flo[1], flo[2] if d > 2 else 0.0, flo[3] if d > 3 else 0.0)
+    inv = (finv[0], finv[1], finv[2] if d > 2 else 1.0, finv[3] if d > 3 else 1.0)
+    n = (fshape[0], fshape[1], fshape[2] if d > 2 else 2, fshape[3] if d > 3 else 2)
+    per = (fper[0], fper[1], fper[2] if d > 2 else False, fper[3] if d > 3 else False)
+    st = (fstr[0], fstr[1], fstr[2] if d > 2 else 0, fstr[3] if d > 3 else 0)
+    hi = (lo[0] + (n[0] - 1) / inv[0], lo[1] + (n[1] - 1) / inv[1], lo[2] + (n[2] - 1) / inv[2],
+          lo[3] + (n[3] - 1) / inv[3])
+    return fv, (d, lo, inv, n, per, st, hi)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _axis(lo, inv, n, per, stride, x):
+    """Lower corner offset, offset to the upper corner and fraction along one axis (periodic axes wrap,
+    others clamp)."""
+    x = (x - lo) * inv
+    if per:
         i0 = math.floor(x)
         fr = x - i0
-        i0 = int(i0) % n
-        i1 = (i0 + 1) % n
+        while i0 >= n:  # no integer modulo: it carries a zero-division check into the hot loop
+            i0 -= n
+        while i0 < 0:
+            i0 += n
+        i1 = i0 + 1 if i0 + 1 < n else 0
     else:
         x = min(max(x, 0.0), n - 1.0)
         i0 = min(int(x), n - 2)
         fr = x - i0
         i1 = i0 + 1
-    return i0 * fstr[k], (i1 - i0) * fstr[k], fr
+    return i0 * stride, (i1 - i0) * stride, fr
 
 
-@numba.njit(cache=True)
-def interp(fv, flo, finv, fshape, fper, fstr, p0, p1, p2, p3):
-    """Multilinear interpolant of field ``f`` (2, 3 or 4 axes) at (p0, ..., p_{d-1}); periodic axes wrap,
-    others clamp. Written out per dimension: no allocation in the hot loop."""
-    d = flo.shape[0]
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def interp2(fv, m, p0, p1):
+    """Bilinear interpolant of a 2D field (values ``fv``, ``m`` from ``field_meta``) at (p0, p1)."""
+    _, lo, inv, n, per, st, _ = m
     v = fv
-    b0, o0, t0 = _axis(flo, finv, fshape, fper, fstr, 0, p0)
-    b1, o1, t1 = _axis(flo, finv, fshape, fper, fstr, 1, p1)
+    b0, o0, t0 = _axis(lo[0], inv[0], n[0], per[0], st[0], p0)
+    b1, o1, t1 = _axis(lo[1], inv[1], n[1], per[1], st[1], p1)
     i = b0 + b1
-    if d == 2:
-        return ((1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1])
-                + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1]))
-    b2, o2, t2 = _axis(flo, finv, fshape, fper, fstr, 2, p2)
-    i += b2
-    if d == 3:
-        lo = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
-        i += o2
-        hi = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
-        return (1 - t2) * lo + t2 * hi
-    b3, o3, t3 = _axis(flo, finv, fshape, fper, fstr, 3, p3)
-    i += b3
-    out = 0.0
-    for c3 in range(2):
-        w3 = t3 if c3 else 1 - t3
-        j = i + c3 * o3
-        lo = (1 - t0) * ((1 - t1) * v[j] + t1 * v[j + o1]) + t0 * ((1 - t1) * v[j + o0] + t1 * v[j + o0 + o1])
-        j += o2
-        hi = (1 - t0) * ((1 - t1) * v[j] + t1 * v[j + o1]) + t0 * ((1 - t1) * v[j + o0] + t1 * v[j + o0 + o1])
-        out += w3 * ((1 - t2) * lo + t2 * hi)
-    return out
+    return (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def interp3(fv, m, p0, p1, p2):
+    """Trilinear interpolant of a 3D field at (p0, p1, p2)."""
+    _, lo, inv, n, per, st, _ = m
+    v = fv
+    b0, o0, t0 = _axis(lo[0], inv[0], n[0], per[0], st[0], p0)
+    b1, o1, t1 = _axis(lo[1], inv[1], n[1], per[1], st[1], p1)
+    b2, o2, t2 = _axis(lo[2], inv[2], n[2], per[2], st[2], p2)
+    i = b0 + b1 + b2
+    a = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
+    i += o2
+    b = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
+    return (1 - t2) * a + t2 * b
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def interp4(fv, m, p0, p1, p2, p3):
+    """Quadrilinear interpolant of a 4D field at (p0, ..., p3). Each dimension has its own function
+    (the kind of a heuristic or pruner fixes it): no branch on the dimension in the hot loop."""
+    _, lo, inv, n, per, st, _ = m
+    v = fv
+    b0, o0, t0 = _axis(lo[0], inv[0], n[0], per[0], st[0], p0)
+    b1, o1, t1 = _axis(lo[1], inv[1], n[1], per[1], st[1], p1)
+    b2, o2, t2 = _axis(lo[2], inv[2], n[2], per[2], st[2], p2)
+    b3, o3, t3 = _axis(lo[3], inv[3], n[3], per[3], st[3], p3)
+    i = b0 + b1 + b2 + b3
+    a = (1 - t0) * ((1 - t1) * v[i] + t1 * v[i + o1]) + t0 * ((1 - t1) * v[i + o0] + t1 * v[i + o0 + o1])
+    j = i + o2
+    b = (1 - t0) * ((1 - t1) * v[j] + t1 * v[j + o1]) + t0 * ((1 - t1) * v[j + o0] + t1 * v[j + o0 + o1])
+    lo3 = (1 - t2) * a + t2 * b
+    j = i + o3
+    a = (1 - t0) * ((1 - t1) * v[j] + t1 * v[j + o1]) + t0 * ((1 - t1) * v[j + o0] + t1 * v[j + o0 + o1])
+    j += o2
+    b = (1 - t0) * ((1 - t1) * v[j] + t1 * v[j + o1]) + t0 * ((1 - t1) * v[j + o0] + t1 * v[j + o0 + o1])
+    return (1 - t3) * lo3 + t3 * ((1 - t2) * a + t2 * b)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def cell_index(m, p0, p1, p2, p3):
+    """Flat index of the lower corner of the grid cell holding (p0, ..., p_{d-1}), the cell ``interp`` uses."""
+    d, lo, inv, n, per, st, _ = m
+    i = _axis(lo[0], inv[0], n[0], per[0], st[0], p0)[0] + _axis(lo[1], inv[1], n[1], per[1], st[1], p1)[0]
+    if d > 2:
+        i += _axis(lo[2], inv[2], n[2], per[2], st[2], p2)[0]
+    if d > 3:
+        i += _axis(lo[3], inv[3], n[3], per[3], st[3], p3)[0]
+    return i
+
+
+def cell_min(field: GridField) -> np.ndarray:
+    """The smallest of the 2^d corner values of every grid cell, at its lower corner's flat index.
+
+    Why: a multilinear interpolant is a convex combination of its cell's corners, so it is at least
+    their minimum. A pruner that only asks "is V above the threshold?" answers from one load wherever
+    the whole cell is above it (most of free space) and interpolates only in cells that straddle the
+    threshold; its decisions are exactly those of the full interpolant.
+    """
+    shape = tuple(int(n) for n in field.shape)
+    low = np.asarray(field.values).reshape(shape)
+    for axis, periodic in enumerate(field.periodic):
+        upper = np.roll(low, -1, axis=axis)
+        if not periodic:  # the last node is never a lower corner (interp clamps to n - 2)
+            edge = [slice(None)] * len(shape)
+            edge[axis] = -1
+            upper[tuple(edge)] = low[tuple(edge)]
+        low = np.minimum(low, upper)
+    return np.ascontiguousarray(low.reshape(-1))
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _outside_xy(m, x, y):
+    hi = m[6]
+    lo = m[1]
+    return x < lo[0] or y < lo[1] or x > hi[0] or y > hi[1]
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def wrap(a):
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@numba.njit(cache=True)
-def heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, x, y, v, th):
-    """par: [goal_x, goal_y, goal_heading, v_max, tolerance_or_goal_radius, off_grid_value]."""
-    if kind == H_ZERO:
-        return 0.0
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def heuristic(kind, fv, m, par, x, y, v, th):
+    """par: [goal_x, goal_y, goal_heading, v_max, tolerance_or_goal_radius, off_grid_value, cos(goal_heading),
+    sin(goal_heading)]."""
+    out = 0.0
     dx, dy = x - par[0], y - par[1]
     if kind == H_DIST:
-        return max(math.sqrt(dx * dx + dy * dy) - par[4], 0.0) / par[3]
-    if kind == H_RASTER:
-        return interp(fv, flo, finv, fshape, fper, fstr, x, y, 0.0, 0.0)
-    if kind == H_GOAL_GRID:
-        c, s = math.cos(par[2]), math.sin(par[2])
+        out = max(math.sqrt(dx * dx + dy * dy) - par[4], 0.0) / par[3]
+    elif kind == H_RASTER:
+        out = interp2(fv, m, x, y)
+    elif kind == H_GOAL_GRID:
+        c, s = par[6], par[7]  # cos, sin of the goal heading
         lx, ly = c * dx + s * dy, -s * dx + c * dy
-        if lx < flo[0] or ly < flo[1] or lx > flo[0] + (fshape[0] - 1) / finv[0] \
-                or ly > flo[1] + (fshape[1] - 1) / finv[1]:
-            return max(math.sqrt(lx * lx + ly * ly) - par[4], 0.0) / par[3]
-        return interp(fv, flo, finv, fshape, fper, fstr, lx, ly, v, wrap(th - par[2]))
-    # H_ROOM_GRID
-    if x < flo[0] or y < flo[1] or x > flo[0] + (fshape[0] - 1) / finv[0] \
-            or y > flo[1] + (fshape[1] - 1) / finv[1]:
-        return par[5]
-    return interp(fv, flo, finv, fshape, fper, fstr, x, y, v, th)
+        if _outside_xy(m, lx, ly):
+            out = max(math.sqrt(lx * lx + ly * ly) - par[4], 0.0) / par[3]
+        else:
+            out = interp4(fv, m, lx, ly, v, wrap(th - par[2]))
+    elif kind == H_ROOM_GRID:
+        out = par[5] if _outside_xy(m, x, y) else interp4(fv, m, x, y, v, th)
+    return out  # H_ZERO: 0
 
 
-@numba.njit(cache=True)
-def static_value(kind, fv, flo, finv, fshape, fper, fstr, par, x, y, v, th):
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def static_value(kind, fv, m, par, x, y, v, th):
     """The static pruner's safety value at one state: clearance (S_OBS) or BRT value (S_BRT), minus margin.
 
     par: [robot_radius (S_OBS) or margin (S_BRT), value off the grid]. Positive is safe.
     """
-    if x < flo[0] or y < flo[1] or x > flo[0] + (fshape[0] - 1) / finv[0] \
-            or y > flo[1] + (fshape[1] - 1) / finv[1]:
-        return par[1] - par[0]
-    if kind == S_OBS:
-        return interp(fv, flo, finv, fshape, fper, fstr, x, y, 0.0, 0.0) - par[0]
-    return interp(fv, flo, finv, fshape, fper, fstr, x, y, v, th) - par[0]
+    if _outside_xy(m, x, y):
+        out = par[1]
+    elif kind == S_OBS:
+        out = interp2(fv, m, x, y)
+    else:
+        out = interp4(fv, m, x, y, v, th)
+    return out - par[0]
 
 
-@numba.njit(cache=True)
-def human_value(fv, flo, finv, fshape, fper, fstr, par, x, y, v, th, hx, hy):
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def static_kept(kind, fv, fmin, m, par, x, y, v, th):
+    """``static_value(...) > 0`` answered from the cell's corner minimum (``cell_min``) where it suffices."""
+    if _outside_xy(m, x, y):
+        kept = par[1] - par[0] > 0.0
+    elif fmin[cell_index(m, x, y, v, th)] - par[0] > 0.0:
+        kept = True
+    else:
+        kept = static_value(kind, fv, m, par, x, y, v, th) > 0.0
+    return kept
+
+
+@numba.njit(cache=True, error_model="numpy")
+def human_value(fv, m, par, x, y, v, th, hx, hy):
     """Human-robot BRT value for a robot state and a human position (reach.lookup.HumanBRTLookup).
 
     par: [collision_radius, closing_distance (speed sum × horizon), m, Δt, γ_min, γ_max, k_θ, w_θ, w_d, d_th].
@@ -167,13 +261,12 @@ def human_value(fv, flo, finv, fshape, fper, fstr, par, x, y, v, th, hx, hy):
     c, s = math.cos(th), math.sin(th)
     rx, ry = hx - x, hy - y
     px, py = c * rx + s * ry, -s * rx + c * ry
-    if px < flo[0] or py < flo[1] or px > flo[0] + (fshape[0] - 1) / finv[0] \
-            or py > flo[1] + (fshape[1] - 1) / finv[1]:
+    if _outside_xy(m, px, py):
         return math.sqrt(px * px + py * py) - par[0] - par[1]
-    return interp(fv, flo, finv, fshape, fper, fstr, px, py, v, 0.0)
+    return interp3(fv, m, px, py, v)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def adaptive_gamma(par, x, y, th, hx, hy):
     """Eq. 16-18: γ from the angular alignment exp(−k_θ |θ − ψ|) and the distance alignment
     max(0, 1 − d / d_th) (d: clearance between the two discs), between γ_min (risky) and γ_max."""
@@ -186,89 +279,99 @@ def adaptive_gamma(par, x, y, th, hx, hy):
     return par[5] - (par[5] - par[4]) * risk
 
 
-@numba.njit(cache=True)
-def human_prunes(kind, fv, flo, finv, fshape, fper, fstr, par, humans, parent, samples, n):
-    """True when any of the ``n`` segment samples (last = the successor) violates a human pruner."""
-    m, dt = par[2], par[3]
+@numba.njit(cache=True, error_model="numpy")
+def human_prunes(kind, fv, m, par, humans, x0, y0, v0, th0, samples, n):
+    """True when any of the ``n`` segment samples (last = the successor) from the parent (x0, y0, v0, θ0)
+    violates a human pruner."""
+    margin, dt = par[2], par[3]
     for h in range(humans.shape[0]):
         hx, hy = humans[h, 0], humans[h, 1]
         for i in range(n):
-            if human_value(fv, flo, finv, fshape, fper, fstr, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < m:
+            if human_value(fv, m, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < margin:
                 return True
         if kind == U_FI:
-            s = samples[n - 1]
-            v1 = human_value(fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3], hx, hy)
-            v0 = human_value(fv, flo, finv, fshape, fper, fstr, par, parent[0], parent[1], parent[2], parent[3], hx, hy)
-            gamma = adaptive_gamma(par, s[0], s[1], s[3], hx, hy)
-            if (v1 - v0) / dt < -gamma * (v1 - m):
+            x, y, v, th = samples[n - 1, 0], samples[n - 1, 1], samples[n - 1, 2], samples[n - 1, 3]
+            val1 = human_value(fv, m, par, x, y, v, th, hx, hy)
+            val0 = human_value(fv, m, par, x0, y0, v0, th0, hx, hy)
+            gamma = adaptive_gamma(par, x, y, th, hx, hy)
+            if (val1 - val0) / dt < -gamma * (val1 - margin):
                 return True
     return False
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def segment_pruned(kind, fv, fmin, m, par, samples, i):
+    """Static pruner on segment ``i`` of (N, S, 4) samples: (pruned, samples evaluated); it stops at the
+    first sample at or below the threshold, as the search does."""
+    for j in range(samples.shape[1]):
+        if not static_kept(kind, fv, fmin, m, par, samples[i, j, 0], samples[i, j, 1], samples[i, j, 2],
+                           samples[i, j, 3]):
+            return True, j + 1
+    return False, samples.shape[1]
+
+
+@numba.njit(cache=True, error_model="numpy")
 def heuristic_batch(kind, f, par, states):
-    fv, flo, finv, fshape, fper, fstr = f
+    fv, m = field_meta(f)
     out = np.empty(states.shape[0])
     for i in range(states.shape[0]):
-        out[i] = heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+        out[i] = heuristic(kind, fv, m, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
     return out
 
 
-@numba.njit(cache=True)
-def static_prune_batch(kind, f, par, samples):
+@numba.njit(cache=True, error_model="numpy")
+def static_prune_batch(kind, f, fmin, par, samples):
     """samples (N, S, 4): True for each of the N segments with any sample at or below the threshold."""
-    fv, flo, finv, fshape, fper, fstr = f
+    fv, m = field_meta(f)
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
-        for j in range(samples.shape[1]):
-            s = samples[i, j]
-            if static_value(kind, fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3]) <= 0.0:
-                out[i] = True
-                break
+        out[i] = segment_pruned(kind, fv, fmin, m, par, samples, i)[0]
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def static_value_batch(kind, f, par, states):
-    fv, flo, finv, fshape, fper, fstr = f
+    fv, m = field_meta(f)
     out = np.empty(states.shape[0])
     for i in range(states.shape[0]):
-        out[i] = static_value(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+        out[i] = static_value(kind, fv, m, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def human_prune_batch(kind, f, par, humans, parents, samples):
     """parents (N, 4), samples (N, S, 4): True for each segment a human pruner drops."""
-    fv, flo, finv, fshape, fper, fstr = f
+    fv, m = field_meta(f)
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
-        out[i] = human_prunes(kind, fv, flo, finv, fshape, fper, fstr, par, humans, parents[i], samples[i], samples.shape[1])
+        out[i] = human_prunes(kind, fv, m, par, humans, parents[i, 0], parents[i, 1], parents[i, 2],
+                              parents[i, 3], samples[i], samples.shape[1])
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def heuristic_loop(kind, f, par, states, calls):
     """``calls`` repeated evaluations of ``states`` inside compiled code (how the search pays for them):
-    timed from Python in one call, it gives the per-state cost without the Python call overhead."""
-    fv, flo, finv, fshape, fper, fstr = f
+    timed from Python in one call, it gives the per-state cost without the Python call overhead.
+    Returns the sum of h (kept so the work cannot be optimised away)."""
+    fv, m = field_meta(f)
     total = 0.0
     for _ in range(calls):
         for i in range(states.shape[0]):
-            total += heuristic(kind, fv, flo, finv, fshape, fper, fstr, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
+            total += heuristic(kind, fv, m, par, states[i, 0], states[i, 1], states[i, 2], states[i, 3])
     return total
 
 
-@numba.njit(cache=True)
-def static_prune_loop(kind, f, par, samples, calls):
-    """As ``heuristic_loop``, for the static pruner over (N, S, 4) segments; returns the pruned count."""
-    fv, flo, finv, fshape, fper, fstr = f
+@numba.njit(cache=True, error_model="numpy")
+def static_prune_loop(kind, f, fmin, par, samples, calls):
+    """As ``heuristic_loop``, for the static pruner over (N, S, 4) segments, stopping per segment at the
+    first failing sample as the search does: (segments pruned, samples evaluated) over all calls."""
+    fv, m = field_meta(f)
     pruned = 0
+    evaluated = 0
     for _ in range(calls):
         for i in range(samples.shape[0]):
-            for j in range(samples.shape[1]):
-                s = samples[i, j]
-                if static_value(kind, fv, flo, finv, fshape, fper, fstr, par, s[0], s[1], s[2], s[3]) <= 0.0:
-                    pruned += 1
-                    break
-    return pruned
+            bad, k = segment_pruned(kind, fv, fmin, m, par, samples, i)
+            pruned += bad
+            evaluated += k
+    return pruned, evaluated

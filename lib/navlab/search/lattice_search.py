@@ -32,13 +32,15 @@ from navlab.search.lattice_fields import (
     S_NONE,
     U_NONE,
     GridField,
+    cell_min,
+    field_meta,
     heuristic,
     heuristic_batch,
     human_prune_batch,
     human_prunes,
-    interp,
+    interp2,
+    static_kept,
     static_prune_batch,
-    static_value,
     static_value_batch,
 )
 
@@ -53,7 +55,7 @@ class Heuristic:
 
     kind: int
     field: GridField
-    par: np.ndarray  # [goal_x, goal_y, goal_heading, v_max, tolerance, off_grid_value]
+    par: np.ndarray  # [goal_x, goal_y, goal_heading, v_max, tolerance, off_grid_value, cos, sin of goal_heading]
     name: str = ""
 
     def __call__(self, states: np.ndarray) -> np.ndarray:
@@ -67,10 +69,15 @@ class StaticPruner:
     field: GridField
     par: np.ndarray  # [radius or margin, value off the grid]
     name: str = ""
+    # the corner minimum of every cell of ``field`` (lattice_fields.cell_min), derived here
+    lower: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "lower", cell_min(self.field))
 
     def __call__(self, samples: np.ndarray) -> np.ndarray:
         """(N, S, 4) segment samples (all successors of one expansion) -> (N,) True where pruned."""
-        return static_prune_batch(self.kind, self.field, self.par, _segments(samples))
+        return static_prune_batch(self.kind, self.field, self.lower, self.par, _segments(samples))
 
     def values(self, states: np.ndarray) -> np.ndarray:
         """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
@@ -208,8 +215,8 @@ def _ana_key(G, g, h):
     return -(G - g) / h
 
 
-@numba.njit(cache=True)
-def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sp, uk, uf, up, humans,
+@numba.njit(cache=True, error_model="numpy")  # no zero-division checks (and their error paths) in the loop
+def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sb, sp, uk, uf, up, humans,
             use_cost, cf, cost_w, max_expansions, time_limit):
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
@@ -227,10 +234,11 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     bin_w = 2.0 * math.pi / nbins
     v_top = goal[4]  # the lattice's v_max
     t0 = _now()
-    hv, hlo, hinv, hsh, hper, hstr = hf
-    sv, slo, sinv, ssh, sper, sstr = sf
-    uv, ulo, uinv, ush, uper, ustr = uf
-    cv, clo, cinv, csh, cper, cstr = cf
+    hv, hm = field_meta(hf)
+    sv, sm = field_meta(sf)
+    uv, um = field_meta(uf)
+    cv, cm = field_meta(cf)
+    x_goal, y_goal, tol2, v_goal = goal[0], goal[1], goal[2] * goal[2], goal[3] + 1e-9
 
     def cell_of(x, y, v, th):
         ix = math.floor(x / cell_m)
@@ -244,7 +252,7 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     c0 = cell_of(start[0], start[1], start[2], start[3])
     g[c0] = 0.0
     st[c0] = start
-    h0 = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, start[0], start[1], start[2], start[3])
+    h0 = heuristic(hk, hv, hm, hp, start[0], start[1], start[2], start[3])
     hval[c0] = h0
     G = np.inf
     E = np.inf
@@ -261,20 +269,22 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     p_evals = 0
     status = NO_PATH
     goal_cell = -1
+    last = n_samp - 1
     while n_heap > 0:
         gk, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
-        if gk != g[cur]:
+        g_cur = g[cur]
+        if gk != g_cur:
             continue  # stale entry: the cell was improved since
-        if anytime and g[cur] + hval[cur] >= G:
+        if anytime and g_cur + hval[cur] >= G:
             continue  # e <= 1: cannot improve on G
-        s = st[cur]
-        dx, dy = s[0] - goal[0], s[1] - goal[1]
-        if dx * dx + dy * dy <= goal[2] * goal[2] and s[2] <= goal[3] + 1e-9:
+        sx, sy, sv_, sth = st[cur, 0], st[cur, 1], st[cur, 2], st[cur, 3]
+        dx, dy = sx - x_goal, sy - y_goal
+        if dx * dx + dy * dy <= tol2 and sv_ <= v_goal:
             goal_cell = cur
             if not anytime:
                 status = FOUND
                 break
-            G = g[cur]
+            G = g_cur
             # drop e <= 1, re-key the rest, and the bound: G / min(g + h) over what stays open
             m = 0
             lo = np.inf
@@ -303,49 +313,56 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
             break
         expansions += 1
         if anytime and G < np.inf and hval[cur] > 0.0:
-            E = min(E, (G - g[cur]) / hval[cur])
-        lev = round(s[2] / v_top * (nlev - 1))
-        cth, sth = math.cos(s[3]), math.sin(s[3])
+            E = min(E, (G - g_cur) / hval[cur])
+        lev = round(sv_ / v_top * (nlev - 1))
+        cth, sth_ = math.cos(sth), math.sin(sth)
         for p in range(n_prim):
-            for j in range(n_samp):
-                row = table[lev, p, j]
-                samples[j, 0] = s[0] + cth * row[0] - sth * row[1]
-                samples[j, 1] = s[1] + sth * row[0] + cth * row[1]
-                samples[j, 2] = row[2]
-                samples[j, 3] = s[3] + row[3]
-            end = samples[n_samp - 1]
+            # the successor first (most are no improvement on their cell: no segment, no look-up for them)
+            r0, r1 = table[lev, p, last, 0], table[lev, p, last, 1]
+            ex = sx + cth * r0 - sth_ * r1
+            ey = sy + sth_ * r0 + cth * r1
+            ev = table[lev, p, last, 2]
+            eth = sth + table[lev, p, last, 3]
             if snap:
-                end[0] = (math.floor(end[0] / cell_m) + 0.5) * cell_m
-                end[1] = (math.floor(end[1] / cell_m) + 0.5) * cell_m
-                end[3] = round(end[3] / bin_w) * bin_w
-            end[3] = (end[3] + math.pi) % (2.0 * math.pi) - math.pi
-            nc = cell_of(end[0], end[1], end[2], end[3])
+                ex = (math.floor(ex / cell_m) + 0.5) * cell_m
+                ey = (math.floor(ey / cell_m) + 0.5) * cell_m
+                eth = round(eth / bin_w) * bin_w
+            eth = (eth + math.pi) % (2.0 * math.pi) - math.pi
+            nc = cell_of(ex, ey, ev, eth)
             if nc < 0:
                 continue
             step = dt
             if use_cost:
-                step = dt * (1.0 + cost_w * interp(cv, clo, cinv, csh, cper, cstr, end[0], end[1], 0.0, 0.0))
-            ng = g[cur] + step
+                step = dt * (1.0 + cost_w * interp2(cv, cm, ex, ey))
+            ng = g_cur + step
             if ng >= g[nc]:
                 continue
+            for j in range(last):
+                r0, r1 = table[lev, p, j, 0], table[lev, p, j, 1]
+                samples[j, 0] = sx + cth * r0 - sth_ * r1
+                samples[j, 1] = sy + sth_ * r0 + cth * r1
+                samples[j, 2] = table[lev, p, j, 2]
+                samples[j, 3] = sth + table[lev, p, j, 3]
+            samples[last, 0], samples[last, 1], samples[last, 2], samples[last, 3] = ex, ey, ev, eth
             if sk != S_NONE:
                 bad = False
                 for j in range(n_samp):
                     p_evals += 1
-                    if static_value(sk, sv, slo, sinv, ssh, sper, sstr, sp, samples[j, 0], samples[j, 1], samples[j, 2], samples[j, 3]) <= 0.0:
+                    if not static_kept(sk, sv, sb, sm, sp, samples[j, 0], samples[j, 1], samples[j, 2],
+                                       samples[j, 3]):
                         bad = True
                         break
                 if bad:
                     continue
-            if uk != U_NONE and human_prunes(uk, uv, ulo, uinv, ush, uper, ustr, up, humans, s, samples, n_samp):
+            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, samples, n_samp):
                 continue
-            h = heuristic(hk, hv, hlo, hinv, hsh, hper, hstr, hp, end[0], end[1], end[2], end[3])
+            h = heuristic(hk, hv, hm, hp, ex, ey, ev, eth)
             h_evals += 1
             if anytime and ng + h >= G:
                 continue
             g[nc] = ng
             hval[nc] = h
-            st[nc] = end
+            st[nc, 0], st[nc, 1], st[nc, 2], st[nc, 3] = ex, ey, ev, eth
             parent[nc] = cur
             prim[nc] = p
             key = _ana_key(G, ng, h) if anytime else ng + h
@@ -390,7 +407,7 @@ def replay(spec: LatticeSpec, table: np.ndarray, start: np.ndarray, prims: np.nd
             end[3] = round(end[3] / bin_w) * bin_w
         end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
         states.append(end)
-        w = 0.0 if costmap.field is None else costmap.weight * float(interp(*costmap.field, end[0], end[1], 0.0, 0.0))
+        w = 0.0 if costmap.field is None else costmap.weight * float(interp2(*field_meta(costmap.field), end[0], end[1]))
         cost += spec.dt * (1.0 + w)
     return np.array(states), cost
 
@@ -427,7 +444,7 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
     out = _search(anytime, start, goal_arr, table, spec.dt, spec.cell_m, dims, spec.snap_states,
-                  heuristic_.kind, heuristic_.field, heuristic_.par, static.kind, static.field, static.par,
+                  heuristic_.kind, heuristic_.field, heuristic_.par, static.kind, static.field, static.lower, static.par,
                   human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64),
                   costmap.field is not None, cf, float(costmap.weight), int(max_expansions), float(time_limit_s))
     status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
@@ -442,4 +459,4 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
 
 
 def zero_heuristic() -> Heuristic:
-    return Heuristic(H_ZERO, GridField.empty(2), np.zeros(6), "zero")
+    return Heuristic(H_ZERO, GridField.empty(2), np.zeros(8), "zero")
