@@ -40,12 +40,12 @@ PAPER = {
         {"method": "TTR + BRT", "room": "Dense Room", "success": 6, "trips": 6, "time_s": 115.6},
     ],
     "table9_humans": [
-        {"method": "FI-BRT", "humans": 1, "time_s": 157.6, "collisions": 0},
-        {"method": "FS-BRT", "humans": 1, "time_s": 118.2, "collisions": 0},
-        {"method": "OBS", "humans": 1, "time_s": 111.5, "collisions": 1},
-        {"method": "FI-BRT", "humans": 2, "time_s": 264.3, "collisions": 0},
-        {"method": "FS-BRT", "humans": 2, "time_s": 171.3, "collisions": 0},
-        {"method": "OBS", "humans": 2, "time_s": 134.9, "collisions": 3},
+        {"method": "FI-BRT", "setting": "1 human", "humans": 1, "time_s": 157.6, "collisions": 0},
+        {"method": "FS-BRT", "setting": "1 human", "humans": 1, "time_s": 118.2, "collisions": 0},
+        {"method": "OBS", "setting": "1 human", "humans": 1, "time_s": 111.5, "collisions": 1},
+        {"method": "FI-BRT", "setting": "2 humans", "humans": 2, "time_s": 264.3, "collisions": 0},
+        {"method": "FS-BRT", "setting": "2 humans", "humans": 2, "time_s": 171.3, "collisions": 0},
+        {"method": "OBS", "setting": "2 humans", "humans": 2, "time_s": 134.9, "collisions": 3},
     ],
 }
 
@@ -113,7 +113,8 @@ def summarise_patrols(method: str, humans: int, runs: Sequence[Run], seed: int) 
     ok = sum(t.success for t in trips)
     rate, rate_ci = _rate(ok, len(trips))
     mean, ci = bootstrap_mean([r.navigation_time for r in runs], seed)
-    return {"method": method, "humans": humans, "runs": len(runs), "time_s": round(mean, 3),
+    return {"method": method, "setting": f"{humans} human" + ("s" if humans > 1 else ""), "humans": humans,
+            "runs": len(runs), "time_s": round(mean, 3),
             "time_s_ci": _ci(ci) if len(runs) > 1 else None, "collisions": int(sum(r.collisions for r in runs)),
             "success": int(ok), "trips": len(trips), "success_rate": rate, "success_rate_ci": rate_ci,
             **outcome_counts(runs)}

@@ -4,7 +4,8 @@ VIII-C Table IX), built from params.yaml ``hj.dynamic``.
 Each function sets up one run — room, start, goals, humans, heuristic, pruners — and drives the
 receding-horizon loop (``sim.receding_horizon.run_patrol``) with the HJ-guided lattice planner as the
 policy (``sim.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sensing noise from
-``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws.
+``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws
+(in Table VI, noise-free like the paper's simulation, the draw is where along its line the human starts).
 
 - Table VI (``face_to_face``, ``zig_zag``): non-reactive humans in the open room; the three rows differ
   only in the human pruner (FI-BRT, FS-BRT, OBS), the walls are pruned by OBS in every row.
@@ -16,6 +17,7 @@ policy (``sim.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sen
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -103,23 +105,33 @@ class ClosedLoop:
     def _rng(self, run: int) -> np.random.Generator:
         return np.random.default_rng(self.d.seed + run)
 
+    def _table6_settings(self) -> SimSettings:
+        return dataclasses.replace(self.settings(self.d.table6.pose_noise_m), human_noise_m=self.d.table6.human_noise_m)
+
+    def _jittered(self, start, goal, rng: np.random.Generator) -> tuple[float, float]:
+        """Table VI, run by run: the human starts U(0, jitter) m further along its line (first draw of the run)."""
+        a, b = np.asarray(start, float), np.asarray(goal, float)
+        shift = rng.uniform(0.0, self.d.table6.human_start_jitter_m) / np.linalg.norm(b - a)
+        return tuple(float(c) for c in a + shift * (b - a))
+
     def face_to_face(self, row: str, run: int, keep_plans: bool = False) -> Run:
         """Table VI, Face-to-Face: one human walks head-on at the robot; both start together."""
-        t, speed = self.d.table6, self.params.hj.grids.human.speed
+        t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
         f, room = t.face_to_face, load_room(t.room)
-        human = StraightWalker(tuple(f.human_start), tuple(f.human_goal), speed)
+        human = StraightWalker(self._jittered(f.human_start, f.human_goal, rng), tuple(f.human_goal), speed)
         return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
                           room.obstacle_distance, start_state(f.robot_start[:2], f.robot_start[2]), [f.robot_goal],
-                          [human], self.settings(t.pose_noise_m), self._rng(run), keep_plans=keep_plans)
+                          [human], self._table6_settings(), rng, keep_plans=keep_plans)
 
     def zig_zag(self, row: str, run: int) -> Run:
         """Table VI, Zig-Zag: a stream of humans along one line; the robot crosses it at every trip."""
-        t, speed = self.d.table6, self.params.hj.grids.human.speed
+        t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
         z, room = t.zig_zag, load_room(t.room)
         human = HumanStream(tuple(z.human_start), tuple(z.human_goal), speed)
+        human.position = np.asarray(self._jittered(z.human_start, z.human_goal, rng))  # the stream's phase
         return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
                           room.obstacle_distance, start_state(z.robot_start[:2], z.robot_start[2]),
-                          list(z.robot_goals), [human], self.settings(t.pose_noise_m), self._rng(run))
+                          list(z.robot_goals), [human], self._table6_settings(), rng)
 
     def room_patrol(self, room_name: str, heuristic: str, static: str, run: int = 0,
                     keep_plans: bool = False) -> Run:

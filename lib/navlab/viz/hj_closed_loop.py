@@ -32,7 +32,8 @@ COLORS = {"FI-BRT": "tab:blue", "FS-BRT": "tab:orange", "OBS": "tab:red", "Dist 
 
 def _room_axes(ax, room: Room) -> None:
     xs, ys = np.meshgrid(np.linspace(0, room.width, 481), np.linspace(0, room.height, 271))
-    ax.contourf(xs, ys, room.obstacle_distance(xs, ys), levels=[-1e9, 0.0], colors=["0.6"])
+    blocked = np.where(room.obstacle_distance(xs, ys) < 0.0, 0.6, 1.0)
+    ax.imshow(blocked, cmap="gray", vmin=0.0, vmax=1.0, origin="lower", extent=(0, room.width, 0, room.height))
     ax.set_xlim(0, room.width)
     ax.set_ylim(0, room.height)
     ax.set_aspect("equal")
@@ -181,7 +182,7 @@ def patrol_scene_html(room: Room, run: Run, lookup: HumanBRTLookup, robot_radius
         add_cylinder(vis[f"humans/{k}"], (0.0, 0.0), human_radius, 0.0, 1.7, 0xD62728)
     anim = Animation(default_framerate=fps)
     for f, i in enumerate(_frames(run, fps, control_hz)):
-        t, x, y, v, th = traj[i]
+        _, x, y, v, th = traj[i]
         with anim.at_frame(vis, f) as frame:
             frame["car"].set_transform(tf.translation_matrix((x, y, 0.0)) @ tf.rotation_matrix(th, (0, 0, 1)))
             for lv in levels:

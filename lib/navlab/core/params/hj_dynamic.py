@@ -54,6 +54,8 @@ class Table6Params:
     room: Literal["open", "simulation", "long_hallway", "dense_room"]
     runs: int = between(1, 1000)  # per cell (paper: 5)
     pose_noise_m: float = between(0.0, 1.0)  # simulation: the robot knows its pose (0)
+    human_noise_m: float = between(0.0, 1.0)  # simulation: exact human positions (0); replaces closed_loop's
+    human_start_jitter_m: float = between(0.0, 5.0)  # run r: the humans start up to this far along their line
     face_to_face: FaceToFaceParams
     zig_zag: ZigZagParams
     detour_lateral_m: float = between(0.01, 2.0)  # Fig. 8: the detour starts when the car leaves the line by this
