@@ -26,14 +26,17 @@ from navlab.sim.receding_horizon import Run, Trip, run_patrol
 
 @pytest.fixture(scope="module")
 def loop(tmp_path_factory, smoke_params):
-    """The notebooks' ClosedLoop on smoke params (Dist heuristic, 600 expansions per re-plan), with a human BRT
+    """The notebooks' ClosedLoop on smoke params (Dist heuristic; 600 expansions per re-plan), with a human BRT
     finer than smoke's (81 x 81 x 6 over ±6 m, 1.5 s, ENO2/RK2; 1-2 s to solve): smoke's 21 x 21 upwind grid
     is too coarse for FI-BRT's rate test (Eq. 15) to see a head-on human in time."""
     g = smoke_params.hj.grids
     grids = dataclasses.replace(g, solver=dataclasses.replace(g.solver, scheme="eno2", rk_order=2),
                                 human_brt=dataclasses.replace(g.human_brt, shape=(81, 81, 6), half_extent_m=6.0,
                                                               horizon_s=1.5))
-    params = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=grids))
+    d = smoke_params.hj.dynamic  # a budget that does not follow smoke's notebook runs
+    dynamic = dataclasses.replace(d, closed_loop=dataclasses.replace(d.closed_loop, max_expansions=600, deadlock_s=10.0,
+                                                                     trip_timeout_s=30.0))
+    params = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=grids, dynamic=dynamic))
     out = tmp_path_factory.mktemp("closed_loop")
     spec = human_brt_spec(params)
     values, _ = spec.solve("cpu", False, False)

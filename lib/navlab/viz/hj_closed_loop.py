@@ -102,13 +102,15 @@ def _frames(run: Run, fps: float, control_hz: float) -> np.ndarray:
 
 
 def patrol_gif(path: str | Path, room: Room, run: Run, lookup: HumanBRTLookup, robot_radius: float,
-               human_radius: float, control_hz: float, fps: float = 5.0, title: str = "") -> Path:
-    """The patrol as an animated GIF: car, humans, and the BRT region under the car at its speed."""
+               human_radius: float, control_hz: float, sample_hz: float = 1.0, fps: float = 5.0,
+               title: str = "") -> Path:
+    """The patrol as an animated GIF: car, humans, and the BRT region under the car at its speed;
+    ``sample_hz`` frames per simulated second played at ``fps`` (fps / sample_hz times real time)."""
     traj, humans = np.asarray(run.trajectory), np.asarray(run.humans)
-    frames = _frames(run, fps, control_hz)
+    frames = _frames(run, sample_hz, control_hz)
     speeds = np.unique(np.round(traj[:, 3] * 4) / 4)  # regions precomputed per 0.25 m/s
     regions = {v: brt_region(lookup, float(v)) for v in speeds}
-    fig, ax = plt.subplots(figsize=(6.4, 3.9), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(5.6, 3.4), dpi=80, constrained_layout=True)
     _room_axes(ax, room)
     ax.plot(traj[:, 1], traj[:, 2], "-", color="0.8", lw=0.8)
     car = Circle((0, 0), robot_radius, color="tab:blue", zorder=3)
