@@ -76,5 +76,5 @@ def test_dense_room_goals_have_no_line_of_sight_and_hallway_is_narrow():
 
 
 def test_unknown_room_names_the_choices():
-    with pytest.raises(ValueError, match="rooms are simulation, long_hallway, dense_room"):
+    with pytest.raises(ValueError, match="rooms are open, simulation, long_hallway, dense_room"):
         load_room("kitchen")

@@ -10,6 +10,8 @@ the 5.4 m side, origin at a corner, so the room is ``[0, 9.6] × [0, 5.4]`` and 
 - ``long_hallway`` (Fig. 9 left, Sec. VIII-B): two solid blocks leave a 1.4 m wide, 6 m long hallway
   between a west and an east bay; goals A (west bay) and B, C (east bay, 1.6 m apart) make the cyclic
   task A → B → C → A run the length of a narrow passage twice.
+- ``open`` (Sec. VII-D, Tables VI and IX): the same room with no obstacles but its walls, so that the
+  closed-loop tests among humans differ only in how the humans are handled.
 - ``dense_room`` (Fig. 9 right): two staggered walls (from the top and from the bottom) and clutter; the
   goals A and B are 5.6 m apart with no line of sight, so a path must wind around both walls (S-shape).
 
@@ -124,7 +126,11 @@ def dense_room() -> Room:
     ), goals={"A": (1.2, 1.2), "B": (6.6, 2.8)})
 
 
-ROOMS = {"simulation": simulation_room, "long_hallway": long_hallway_room, "dense_room": dense_room}
+def open_room() -> Room:
+    return Room("open", *ROOM_SIZE, obstacles=())
+
+
+ROOMS = {"open": open_room, "simulation": simulation_room, "long_hallway": long_hallway_room, "dense_room": dense_room}
 
 
 def load_room(name: str) -> Room:

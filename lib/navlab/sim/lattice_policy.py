@@ -2,6 +2,9 @@
 
 At every re-plan the policy searches from the observed state to the current goal with a deterministic
 expansion budget and returns the plan's (a, ω) commands; the simulator executes the first of them.
+With ``anytime`` the search is ANA* (the paper's real-robot planner, Sec. VIII): greedy until a first
+plan, then improving it until the budget is spent, so a budget far below what optimal A* needs over a
+long trip still gives a plan; without, A* (the plan is optimal or there is none).
 The observed speed is put on the nearest lattice speed level (the lattice starts from levels only;
 the commanded accelerations then act on the true speed, as on the robot).
 
@@ -46,6 +49,7 @@ class LatticePolicy:
     human_brt: HumanBRTLookup | None = None
     human_radius: float = 0.3
     fi: FIParams = field(default_factory=FIParams)
+    anytime: bool = False
     expansions: list[int] = field(default_factory=list)
     _table: np.ndarray = field(init=False, repr=False)
     _heuristics: dict = field(init=False, repr=False, default_factory=dict)
@@ -96,6 +100,6 @@ class LatticePolicy:
             human = human_pruner(self.human_brt, humans, self.human_mode, self.fi)
         result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
                         self._heuristics[goal], static=static, human=human, max_expansions=self.max_expansions,
-                        table=self._table)
+                        anytime=self.anytime, table=self._table)
         self.expansions.append(result.expansions)
         return result.controls if result.found else np.zeros((0, 2))

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from navlab.core.params.fields import between
+from navlab.core.params.hj_dynamic import DynamicParams
 
 
 @dataclass(frozen=True)
@@ -175,3 +176,4 @@ class HJParams:
     seed: int = between(0)
     grids: GridsParams
     planner: PlannerParams
+    dynamic: DynamicParams

@@ -1,0 +1,95 @@
+"""params.yaml `hj.dynamic`: the closed-loop experiments of the HJ-search paper (Sec. VII-D, VIII; Tables VI,
+VIII, IX). Coordinates the paper's text lacks are ours and carry a comment in params.yaml saying why.
+
+Points are (x, y) in metres in the room's frame (origin at a corner, x along the 9.6 m side); a robot start
+is (x, y, heading in degrees), at rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from navlab.core.params.fields import between
+
+Point = tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class ClosedLoopParams:
+    """The receding-horizon loop (sim.receding_horizon.SimSettings) and the planner budget per re-plan."""
+
+    replan_hz: float = between(0.1, 100.0)  # paper Sec. VIII-A: 12 Hz
+    control_hz: float = between(0.1, 1000.0)  # paper: 25 Hz
+    algorithm: Literal["A*", "ANA*"]  # the paper's robot runs ANA* (Sec. VIII)
+    max_expansions: int = between(1)  # per re-plan: deterministic, so a seeded run gives the same numbers
+    heuristic: Literal["Dist", "TTR"]  # Tables VI and IX (the paper's method: TTR)
+    goal_tolerance_m: float = between(0.01, 2.0)  # a trip ends within this of its goal
+    trip_timeout_s: float = between(1.0, 3600.0)
+    deadlock_s: float = between(0.5, 600.0)  # no progress of deadlock_progress_m for this long: deadlock
+    deadlock_progress_m: float = between(0.01, 10.0)
+    human_noise_m: float = between(0.0, 1.0)  # std of each observed human position (the ZED 2 detector)
+
+
+@dataclass(frozen=True)
+class FaceToFaceParams:
+    robot_start: Point = between(-360.0, 360.0, length=3)  # x, y, heading (deg)
+    robot_goal: Point = between(0.0, 20.0, length=2)
+    human_start: Point = between(0.0, 20.0, length=2)
+    human_goal: Point = between(0.0, 20.0, length=2)
+
+
+@dataclass(frozen=True)
+class ZigZagParams:
+    robot_start: Point = between(-360.0, 360.0, length=3)
+    robot_goals: tuple[Point, ...]  # visited in order, then back to the first: one cycle per run
+    human_start: Point = between(0.0, 20.0, length=2)
+    human_goal: Point = between(0.0, 20.0, length=2)
+
+
+@dataclass(frozen=True)
+class Table6Params:
+    """Sec. VII-D: non-reactive humans in an open room; FI-BRT vs FS-BRT vs OBS."""
+
+    room: Literal["open", "simulation", "long_hallway", "dense_room"]
+    runs: int = between(1, 1000)  # per cell (paper: 5)
+    pose_noise_m: float = between(0.0, 1.0)  # simulation: the robot knows its pose (0)
+    human_noise_m: float = between(0.0, 1.0)  # simulation: exact human positions (0); replaces closed_loop's
+    human_start_jitter_m: float = between(0.0, 5.0)  # run r: the humans start up to this far along their line
+    face_to_face: FaceToFaceParams
+    zig_zag: ZigZagParams
+    detour_lateral_m: float = between(0.01, 2.0)  # Fig. 8: the detour starts when the car leaves the line by this
+
+
+@dataclass(frozen=True)
+class Table8Params:
+    """Sec. VIII-B: static rooms, cyclic patrols, heuristic x pruner; goals are the rooms' named goals."""
+
+    cycles: int = between(1, 1000)  # paper: 3 (9 trips in the Long Hallway, 6 in the Dense Room)
+    pose_noise_m: float = between(0.0, 1.0)  # AMCL localisation on the robot
+    hallway_route: tuple[str, ...]  # goal names of maps.rooms.long_hallway_room, visited cyclically
+    dense_route: tuple[str, ...]
+    start_heading_deg: float = between(-360.0, 360.0)
+
+
+@dataclass(frozen=True)
+class Table9Params:
+    """Sec. VIII-C: patrolling humans (the paper's three rules); FI-BRT vs FS-BRT vs OBS."""
+
+    room: Literal["open", "simulation", "long_hallway", "dense_room"]
+    cycles: int = between(1, 1000)  # paper: 3 full patrol cycles
+    runs: int = between(1, 1000)  # seeded repetitions of the whole cell (paper: 1)
+    human_counts: tuple[int, ...] = between(1, 2)
+    pose_noise_m: float = between(0.0, 1.0)
+    robot_start_heading_deg: float = between(-360.0, 360.0)
+    robot_goals: tuple[Point, ...]  # cyclic; the run starts at the first, stopped
+    human_pois: tuple[tuple[Point, ...], ...]  # per human, its points of interest (cyclic)
+
+
+@dataclass(frozen=True)
+class DynamicParams:
+    seed: int = between(0)  # run r of a cell uses seed + r (noise draws)
+    closed_loop: ClosedLoopParams
+    table6: Table6Params
+    table8: Table8Params
+    table9: Table9Params

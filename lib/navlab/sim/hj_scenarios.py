@@ -1,0 +1,163 @@
+"""The HJ-search paper's closed-loop experiments as seeded runs (Sec. VII-D Table VI, VIII-B Table VIII,
+VIII-C Table IX), built from params.yaml ``hj.dynamic``.
+
+Each function sets up one run — room, start, goals, humans, heuristic, pruners — and drives the
+receding-horizon loop (``sim.receding_horizon.run_patrol``) with the HJ-guided lattice planner as the
+policy (``sim.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sensing noise from
+``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws
+(in Table VI, noise-free like the paper's simulation, the draw is where along its line the human starts).
+
+- Table VI (``face_to_face``, ``zig_zag``): non-reactive humans in the open room; the three rows differ
+  only in the human pruner (FI-BRT, FS-BRT, OBS), the walls are pruned by OBS in every row.
+- Table VIII (``room_patrol``): no humans; the Long Hallway and Dense Room patrols with the four
+  heuristic x static-pruner combinations (Dist/TTR x OBS/static BRT with its measured margin).
+- Table IX (``human_patrol``): 1 or 2 humans patrolling their points of interest under the paper's three
+  rules (``sim.humans.PatrolHuman``) while the robot patrols its goals, for three patrol cycles.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from navlab.core.params import Params
+from navlab.maps.rooms import Room, load_room
+from navlab.reach.guidance import dist_heuristic, ttr_heuristic
+from navlab.reach.planning import Planner, lattice_spec
+from navlab.reach.precompute import load_human_brt, load_ttr
+from navlab.reach.pruners import FIParams, obs_pruner
+from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
+from navlab.sim.lattice_policy import LatticePolicy
+from navlab.sim.receding_horizon import Run, SimSettings, run_patrol
+
+HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX: row -> LatticePolicy mode
+ROOM_COMBOS = (("Dist", "OBS"), ("Dist", "BRT"), ("TTR", "OBS"), ("TTR", "BRT"))  # Table VIII rows
+ROOM_NAMES = {"long_hallway": "Long Hallway", "dense_room": "Dense Room"}
+
+
+def start_state(xy, heading_deg: float) -> np.ndarray:
+    """A robot at rest at ``xy`` facing ``heading_deg``."""
+    return np.array([float(xy[0]), float(xy[1]), 0.0, math.radians(heading_deg)])
+
+
+def cyclic_goals(points, cycles: int) -> list[tuple[float, float]]:
+    """Starting at ``points[0]``: visit the others in order and come back, ``cycles`` times (the paper's
+    "full patrol cycle" starts and ends at the same goal)."""
+    if len(points) < 2:
+        raise ValueError(f"a patrol needs at least 2 goals, got {len(points)}")
+    one = [tuple(map(float, p)) for p in (*points[1:], points[0])]
+    return one * cycles
+
+
+class ClosedLoop:
+    """What the closed-loop runs share: params, lattice, value functions (loaded once, on first use)."""
+
+    def __init__(self, params: Params, artifacts_dir: str | Path, log=print):
+        self.params, self.artifacts_dir, self.log = params, artifacts_dir, log
+        self.d = params.hj.dynamic
+        self.robot = params.hj.grids.robot
+        self.spec = lattice_spec(params)
+        fi = params.hj.planner.fi_brt
+        self.fi = FIParams(fi.dt_s, fi.margin, fi.gamma_min, fi.gamma_max, fi.k_theta, fi.w_theta, fi.w_dist,
+                           fi.d_threshold_m)
+        self._ttr = self._human_brt = None
+        self._planners: dict[str, Planner] = {}
+
+    def settings(self, pose_noise_m: float) -> SimSettings:
+        c, h = self.d.closed_loop, self.params.hj.grids.human
+        return SimSettings(c.replan_hz, c.control_hz, self.robot.radius_m, h.radius_m, self.robot.v_max,
+                           self.robot.accel_min, c.goal_tolerance_m, c.trip_timeout_s, c.deadlock_s,
+                           c.deadlock_progress_m, pose_noise_m, c.human_noise_m)
+
+    def heuristic_for(self, name: str):
+        if name == "Dist":
+            tol = self.params.hj.planner.goal_tolerance_astar_m
+            return lambda goal: dist_heuristic(goal, self.robot.v_max, tol)
+        if name == "TTR":
+            if self._ttr is None:
+                self._ttr = load_ttr(self.params, self.artifacts_dir)
+            return lambda goal: ttr_heuristic(self._ttr, goal)
+        raise ValueError(f"heuristic {name!r}: the closed-loop runs use 'Dist' or 'TTR'")
+
+    def static_pruner(self, room: Room, name: str):
+        if name == "OBS":
+            return obs_pruner(room, self.robot.radius_m)
+        if name == "BRT":  # the room's static BRT with the margin measured against a finer solve (cached)
+            if room.name not in self._planners:
+                self._planners[room.name] = Planner(self.params, self.artifacts_dir, room.name, costs=False,
+                                                    log=self.log)
+            return self._planners[room.name].pruner("BRT")
+        raise ValueError(f"static pruner {name!r}: use 'OBS' or 'BRT'")
+
+    def policy(self, room: Room, heuristic: str, static: str, human_mode: str = "none") -> LatticePolicy:
+        if human_mode in ("fi", "fs") and self._human_brt is None:
+            self._human_brt = load_human_brt(self.params, self.artifacts_dir)
+        p = self.params.hj.planner
+        return LatticePolicy(self.spec, room, self.heuristic_for(heuristic), self.static_pruner(room, static),
+                             p.goal_tolerance_astar_m, p.goal_max_speed, self.d.closed_loop.max_expansions,
+                             human_mode, self._human_brt if human_mode in ("fi", "fs") else None,
+                             self.params.hj.grids.human.radius_m, self.fi,
+                             anytime=self.d.closed_loop.algorithm == "ANA*")
+
+    def _rng(self, run: int) -> np.random.Generator:
+        return np.random.default_rng(self.d.seed + run)
+
+    def _table6_settings(self) -> SimSettings:
+        return dataclasses.replace(self.settings(self.d.table6.pose_noise_m), human_noise_m=self.d.table6.human_noise_m)
+
+    def _jittered(self, start, goal, rng: np.random.Generator) -> tuple[float, float]:
+        """Table VI, run by run: the human starts U(0, jitter) m further along its line (first draw of the run)."""
+        a, b = np.asarray(start, float), np.asarray(goal, float)
+        shift = rng.uniform(0.0, self.d.table6.human_start_jitter_m) / np.linalg.norm(b - a)
+        return tuple(float(c) for c in a + shift * (b - a))
+
+    def face_to_face(self, row: str, run: int, keep_plans: bool = False) -> Run:
+        """Table VI, Face-to-Face: one human walks head-on at the robot; both start together."""
+        t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
+        f, room = t.face_to_face, load_room(t.room)
+        human = StraightWalker(self._jittered(f.human_start, f.human_goal, rng), tuple(f.human_goal), speed)
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+                          room.obstacle_distance, start_state(f.robot_start[:2], f.robot_start[2]), [f.robot_goal],
+                          [human], self._table6_settings(), rng, keep_plans=keep_plans)
+
+    def zig_zag(self, row: str, run: int) -> Run:
+        """Table VI, Zig-Zag: a stream of humans along one line; the robot crosses it at every trip."""
+        t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
+        z, room = t.zig_zag, load_room(t.room)
+        human = HumanStream(tuple(z.human_start), tuple(z.human_goal), speed)
+        human.position = np.asarray(self._jittered(z.human_start, z.human_goal, rng))  # the stream's phase
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+                          room.obstacle_distance, start_state(z.robot_start[:2], z.robot_start[2]),
+                          list(z.robot_goals), [human], self._table6_settings(), rng)
+
+    def room_patrol(self, room_name: str, heuristic: str, static: str, run: int = 0,
+                    keep_plans: bool = False) -> Run:
+        """Table VIII: the cyclic patrol of one room's named goals, no humans."""
+        t = self.d.table8
+        route = {"long_hallway": t.hallway_route, "dense_room": t.dense_route}.get(room_name)
+        if route is None:
+            raise ValueError(f"room {room_name!r}: Table VIII runs in {', '.join(ROOM_NAMES)}")
+        room = load_room(room_name)
+        missing = [g for g in route if g not in room.goals]
+        if missing:
+            raise ValueError(f"hj.dynamic.table8: goal {missing[0]!r} is not a goal of room {room_name} "
+                             f"(its goals: {', '.join(room.goals)})")
+        points = [room.goals[g] for g in route]
+        return run_patrol(self.policy(room, heuristic, static), room.obstacle_distance,
+                          start_state(points[0], t.start_heading_deg), cyclic_goals(points, t.cycles), [],
+                          self.settings(t.pose_noise_m), self._rng(run), keep_plans=keep_plans)
+
+    def human_patrol(self, row: str, n_humans: int, run: int = 0, keep_plans: bool = False) -> Run:
+        """Table IX: the robot's cyclic patrol among ``n_humans`` patrolling humans."""
+        t, speed = self.d.table9, self.params.hj.grids.human.speed
+        if not 1 <= n_humans <= len(t.human_pois):
+            raise ValueError(f"{n_humans} humans: hj.dynamic.table9.human_pois lists {len(t.human_pois)}")
+        room = load_room(t.room)
+        humans = [PatrolHuman(tuple(map(tuple, pois)), speed) for pois in t.human_pois[:n_humans]]
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+                          room.obstacle_distance, start_state(t.robot_goals[0], t.robot_start_heading_deg),
+                          cyclic_goals(t.robot_goals, t.cycles), humans, self.settings(t.pose_noise_m),
+                          self._rng(run), keep_plans=keep_plans)
