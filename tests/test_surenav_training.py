@@ -125,3 +125,25 @@ def test_learns_to_relax_the_label_the_expert_always_relaxes(settings, samples, 
         psi = model(s.data)
     labels = s.data.x[:, :GRASS + 1].argmax(1)
     assert psi[labels == CROSSWALK].max() < psi[labels == GRASS].min()
+
+
+def test_run_key_follows_the_code_the_training_imports(settings, samples, tmp_path, monkeypatch):
+    """The key is core.fingerprint's (derived from imports): it covers the loss, the estimator and the
+    differentiable A*; a finished run is rebuilt, not reused, once the code's fingerprint changes."""
+    from navlab.core.fingerprint import imported_modules
+
+    covered = imported_modules("navlab.surenav.train")
+    for module in ("navlab.surenav.loss", "navlab.surenav.model.gated_gcn", "navlab.search.diff_astar",
+                   "navlab.surenav.training_data", "navlab.core.params.surenav_model"):
+        assert module in covered, module
+    model_params, train = settings
+    train = dataclasses.replace(train, epochs=1)
+    first = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                       progress=False), weights_only=False)
+    again = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                       progress=False), weights_only=False)
+    assert again["key"] == first["key"]
+    monkeypatch.setattr(training, "code_fingerprint", lambda *names: "edited code")
+    rebuilt = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                         progress=False), weights_only=False)
+    assert rebuilt["key"] != first["key"]

@@ -10,8 +10,9 @@ the quantity Table I reports, on the regions of the demonstration's own graph.
 Resumable: a checkpoint after every epoch (weights, optimiser, torch RNG state, the log), written
 atomically; the epoch's sample order comes from ``rng(seed, "surenav.train", epoch)``, so a run
 killed and started again ends at the weights of an uninterrupted run. The checkpoint is keyed on the
-code (sha256 of the navlab modules the run executes), every parameter that shapes the weights
-(epochs included) and the inputs; only a run of the same key resumes, a finished one is rebuilt
+code (``core.fingerprint.code_fingerprint`` of this module: every navlab module it imports,
+transitively — the estimator, its inputs, the loss, the differentiable A*), every parameter that
+shapes the weights (epochs included) and the inputs; only a run of the same key resumes, a finished one is rebuilt
 under a new key. ``model.pt`` holds the weights of the epoch with the best validation relaxation IoU
 (early stopping on the validation maps: on the default set the IoU peaked after the first epoch and
 then fell, 0.43 / 0.41 / 0.36). Files in a run folder: ``checkpoint.pt``, ``model.pt``, ``log.tsv``
@@ -31,6 +32,7 @@ from torch_geometric.data import Batch
 from torch_geometric.utils import to_dense_batch
 from tqdm.auto import tqdm
 
+from navlab.core.fingerprint import code_fingerprint
 from navlab.core.io import DataError, atomic_path, sha256_json, write_text
 from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
@@ -44,22 +46,7 @@ from navlab.surenav.model.estimator import (
 )
 from navlab.surenav.training_data import Sample
 
-LIB = Path(__file__).resolve().parents[2]
-# the navlab code a trained estimator depends on (its key): the estimator, its inputs and samples, the search
-CODE = ("navlab/surenav/train.py", "navlab/surenav/loss.py", "navlab/surenav/training_data.py",
-        "navlab/surenav/model", "navlab/search/diff_astar.py", "navlab/search/graph_astar.py", "navlab/graphs",
-        "navlab/surenav/experts", "navlab/core/labels.py", "navlab/core/params/surenav_model.py")
 LOG_HEADER = "epoch\ttrain_loss\tval_loss\tval_iou"
-
-
-def code_key() -> str:
-    """sha256 over the sources in ``CODE`` (a result never outlives the code that made it)."""
-    digest = hashlib.sha256()
-    for entry in CODE:
-        path = LIB / entry
-        for file in sorted(path.rglob("*.py")) if path.is_dir() else [path]:
-            digest.update(file.relative_to(LIB).as_posix().encode() + b"\0" + file.read_bytes())
-    return digest.hexdigest()
 
 
 def samples_key(samples: Sequence[Sample]) -> str:
@@ -74,7 +61,7 @@ def samples_key(samples: Sequence[Sample]) -> str:
 
 def run_key(model: EstimatorParams, train: TrainParams, *, seed: int, attention: bool, inputs: str) -> str:
     settings = {k: v for k, v in dataclasses.asdict(train).items() if k not in ("device", "threads", "seeds")}
-    return sha256_json({"code": code_key(), "model": dataclasses.asdict(model), "train": settings, "seed": seed,
+    return sha256_json({"code": code_fingerprint(__name__), "model": dataclasses.asdict(model), "train": settings, "seed": seed,
                         "attention": attention, "inputs": inputs})
 
 
