@@ -154,6 +154,8 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
     bar = tqdm(range(len(rows), train.epochs), desc=f"SuReNav {name} seed {seed}", disable=not progress,
                initial=len(rows), total=train.epochs)
     for epoch in bar:
+        if train.patience and epoch - best["epoch"] >= train.patience:
+            break  # early stopping: no better validation IoU for `patience` epochs (a resumed run stops here too)
         model.train()
         order = rng(seed, "surenav.train", epoch).permutation(len(train_samples))
         losses = []

@@ -28,7 +28,8 @@ class TrainParams:
     """End-to-end training through the differentiable graph A* (Sec. IV-D, Eq. 12-14)."""
 
     seeds: tuple[int, ...] = between(0)  # one model per seed; the reports give mean and spread
-    epochs: int = between(1)
+    epochs: int = between(1)  # the most; early stopping may end sooner
+    patience: int = between(0)  # stop after this many epochs without a better validation IoU (0: never)
     batch_size: int = between(1)
     lr: float = between(1e-7, 1.0)  # AdamW
     weight_decay: float = between(0.0, 1.0)
@@ -48,3 +49,4 @@ class PlannerParams:
     """Algorithm 1's low-level plan (Sec. V)."""
 
     mode: Literal["free_union", "within", "graph"]  # X in X_G ∪ R_free (paper) / within X_G / centroid graph plan
+    rcr_scale_m: float = between(1e-3)  # ablation: Psi = this x RCR's score (metres per unit of score)
