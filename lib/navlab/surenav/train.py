@@ -16,7 +16,9 @@ shapes the weights (epochs included) and the inputs; only a run of the same key 
 under a new key. ``model.pt`` holds the weights of the epoch with the best validation relaxation IoU
 (early stopping on the validation maps: on the default set the IoU peaked after the first epoch and
 then fell, 0.43 / 0.41 / 0.36). Files in a run folder: ``checkpoint.pt``, ``model.pt``, ``log.tsv``
-(epoch, train_loss, val_loss, val_iou — for `dvc plots`).
+(epoch, train_loss, val_loss, val_iou, train_iou — for `dvc plots`; the train IoU, on a fixed fifth
+of the training samples, tells overfitting (train up, validation down) from a loss that stops tracking
+the IoU (both flat or falling while the loss falls)).
 """
 
 from __future__ import annotations
@@ -46,7 +48,8 @@ from navlab.surenav.model.estimator import (
 )
 from navlab.surenav.training_data import Sample
 
-LOG_HEADER = "epoch\ttrain_loss\tval_loss\tval_iou"
+LOG_HEADER = "epoch\ttrain_loss\tval_loss\tval_iou\ttrain_iou"
+TRAIN_IOU_STRIDE = 5  # the train IoU of the log is measured on every 5th training sample (a fixed fifth)
 
 
 def samples_key(samples: Sequence[Sample]) -> str:
@@ -115,8 +118,8 @@ def _save(obj, path: Path) -> None:
 
 
 def _write_log(rows: list[dict], path: Path) -> None:
-    lines = [LOG_HEADER] + [f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}\t{r['val_iou']:.6f}"
-                            for r in rows]
+    lines = [LOG_HEADER] + [f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}\t{r['val_iou']:.6f}\t"
+                            f"{r['train_iou']:.6f}" for r in rows]
     write_text(path, "\n".join(lines) + "\n")
 
 
@@ -168,8 +171,9 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
             optimiser.step()
             losses.append(float(loss.detach()))
         val_loss, val_iou = evaluate(model, val_samples, train, device)
+        train_iou = evaluate(model, train_samples[::TRAIN_IOU_STRIDE], train, device)[1]  # over- or underfitting?
         rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val_loss,
-                     "val_iou": val_iou})
+                     "val_iou": val_iou, "train_iou": train_iou})
         bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val_iou=f"{val_iou:.3f}")
         if best["weights"] is None or not val_iou <= best["val_iou"]:  # NaN (no validation set): keep the last
             best = {"val_iou": val_iou, "epoch": epoch + 1,
@@ -184,15 +188,15 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
 
 
 def read_log(path: str | Path) -> list[dict]:
-    """The rows of a run's ``log.tsv`` (epoch, train_loss, val_loss, val_iou)."""
+    """The rows of a run's ``log.tsv`` (epoch, train_loss, val_loss, val_iou, train_iou)."""
     path = Path(path)
     if not path.is_file():
         raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only surenav_estimator`")
     lines = path.read_text().splitlines()
     if not lines or lines[0] != LOG_HEADER:
         raise DataError(f"{path}: not a SuReNav training log (header {LOG_HEADER!r}); rebuild the surenav_estimator stage")
-    return [{"epoch": int(e), "train_loss": float(t), "val_loss": float(v), "val_iou": float(i)}
-            for e, t, v, i in (line.split("\t") for line in lines[1:])]
+    return [{"epoch": int(e), "train_loss": float(t), "val_loss": float(v), "val_iou": float(i), "train_iou": float(ti)}
+            for e, t, v, i, ti in (line.split("\t") for line in lines[1:])]
 
 
 def load_estimator(path: str | Path, stage: str = "surenav_estimator",
