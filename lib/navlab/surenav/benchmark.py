@@ -107,7 +107,7 @@ class Learned:
 _FACTORIES: dict = {}  # (artifacts_dir, variant, seed) -> policy factory: each estimator loads once per process
 
 
-def _surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Policy:
+def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Policy:
     if learned.artifacts_dir is None or learned.surenav is None:
         raise ValueError(f"{run!r} needs the trained estimators: build Learned.from_training(..., artifacts_dir=, "
                          "surenav=params.surenav)")
@@ -139,7 +139,7 @@ def make_policy(method: str, env: Environment, learned: Learned, settings: Bench
     if method == EXPERT:
         return ExpertPolicy(PERSONAS[env.persona], int(np.ceil(settings.executor.window_margin_m / res)))
     if method_of(method) in (*VARIANT, SURENAV_RCR) and (method == SURENAV_RCR or _SEED in method):
-        return _surenav_policy(method, learned, settings)
+        return surenav_policy(method, learned, settings)
     raise ValueError(f"unknown method {method!r}; methods are {', '.join((*BASELINES, EXPERT))} and the SuReNav "
                      f"runs {seed_run(SURENAV, 0)!r}, {SURENAV_RCR!r}, {seed_run(SURENAV_MPNN, 0)!r}")
 
