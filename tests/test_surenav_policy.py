@@ -113,9 +113,9 @@ def test_benchmark_makes_surenav_runs_and_stops_on_a_missing_estimator(town, tmp
         SURENAV_MPNN,
         SURENAV_RCR,
         Learned,
-        surenav_policy,
         benchmark_runs,
         seed_run,
+        surenav_policy,
     )
 
     smap, graph = town
