@@ -66,25 +66,15 @@ def method_of(run: str) -> str:
     return run.split(_SEED)[0]
 
 
+def seed_of(run: str) -> int:
+    """The training seed of a ``seed_run`` name."""
+    return int(run[len(method_of(run)) + len(_SEED):-1])
+
+
 def surenav_runs(seeds, ablation_seeds) -> list[str]:
     """SuReNav on every training seed, the RCR-scoring ablation (no training: one run) and the MPNN-only
     ablation on ``ablation_seeds``."""
     return [*(seed_run(SURENAV, s) for s in seeds), SURENAV_RCR, *(seed_run(SURENAV_MPNN, s) for s in ablation_seeds)]
-
-
-def benchmark_runs(learned: Learned) -> tuple[list[str], list[str]]:
-    """(runs to execute, methods to report) of Table I and Fig. 4: the baselines, SuReNav on every
-    training seed, its two ablations (the MPNN one on the first ``benchmark.ablation_seeds`` seeds) and the
-    expert reference. Every estimator is loaded here, once (worker processes inherit them), so a missing
-    one stops before any episode runs, naming the stage that builds it."""
-    if learned.surenav is None or learned.artifacts_dir is None:
-        raise ValueError("benchmark_runs needs Learned.from_training(..., artifacts_dir=, surenav=params.surenav)")
-    seeds = list(learned.surenav.train.seeds)
-    runs = [*BASELINES, EXPERT, *surenav_runs(seeds, seeds[:learned.surenav.benchmark.ablation_seeds])]
-    for run in runs:
-        if method_of(run) in VARIANT:
-            _surenav_factory(learned, method_of(run), int(run[len(method_of(run)) + len(_SEED):-1]))
-    return runs, [*BASELINES, SURENAV, SURENAV_RCR, SURENAV_MPNN, EXPERT]
 
 
 @dataclass(frozen=True)
@@ -108,6 +98,7 @@ _FACTORIES: dict = {}  # (artifacts_dir, variant, seed) -> policy factory: each 
 
 
 def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Policy:
+    """A fresh SuReNav policy for a run of ``surenav_runs``."""
     if learned.artifacts_dir is None or learned.surenav is None:
         raise ValueError(f"{run!r} needs the trained estimators: build Learned.from_training(..., artifacts_dir=, "
                          "surenav=params.surenav)")
@@ -116,7 +107,7 @@ def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Pol
     if method == SURENAV_RCR:
         score = RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight).score
         return SuReNavPolicy(scored_cost(score, s.planner.rcr_scale_m), s.planner.mode, s.model.window_margin_m)
-    return _surenav_factory(learned, method, int(run[len(method) + len(_SEED):-1]))()
+    return _surenav_factory(learned, method, seed_of(run))()
 
 
 def _surenav_factory(learned: Learned, method: str, seed: int):
@@ -124,6 +115,21 @@ def _surenav_factory(learned: Learned, method: str, seed: int):
     if key not in _FACTORIES:
         _FACTORIES[key] = learned_policy(learned.artifacts_dir, learned.surenav, VARIANT[method], seed)
     return _FACTORIES[key]
+
+
+def benchmark_runs(learned: Learned) -> tuple[list[str], list[str]]:
+    """(runs to execute, methods to report) of Table I and Fig. 4: the baselines, SuReNav on every
+    training seed, its two ablations (the MPNN one on the first ``benchmark.ablation_seeds`` seeds) and the
+    expert reference. Every estimator is loaded here, once (worker processes inherit them), so a missing
+    one stops before any episode runs, naming the stage that builds it."""
+    if learned.surenav is None or learned.artifacts_dir is None:
+        raise ValueError("benchmark_runs needs Learned.from_training(..., artifacts_dir=, surenav=params.surenav)")
+    seeds = list(learned.surenav.train.seeds)
+    runs = [*BASELINES, EXPERT, *surenav_runs(seeds, seeds[:learned.surenav.benchmark.ablation_seeds])]
+    for run in runs:
+        if method_of(run) in VARIANT:
+            _surenav_factory(learned, method_of(run), seed_of(run))
+    return runs, [*BASELINES, SURENAV, SURENAV_RCR, SURENAV_MPNN, EXPERT]
 
 
 def make_policy(method: str, env: Environment, learned: Learned, settings: BenchmarkParams) -> Policy:
