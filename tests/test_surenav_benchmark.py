@@ -137,7 +137,7 @@ def _fig4(spl, risk, length, sr=None):
 
 
 def test_fig4_claims_hold_on_the_papers_pattern_and_fail_otherwise():
-    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.8, "SuReNav": 0.85}
+    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.8, "SuReNav": 0.9}
     risk = {"D* Lite": 40.0, "COA*": 15.0, "RCR": 30.0, "SuReNav": 20.0}
     length = {"D* Lite": 150.0, "COA*": 240.0, "RCR": 170.0, "SuReNav": 160.0}
     claims = paper.fig4_claims(_fig4(spl, risk, length))
