@@ -163,9 +163,10 @@ def test_estimator_report_rows_give_the_gap_and_the_zero_cost_floor(settings, sa
             path.parent.mkdir(parents=True)
             torch.save({**architecture(model), "weights": model.state_dict()}, path)
     split = {"val": samples[:6], "test": samples[6:12]}
-    rows = {r["method"]: r for r in estimator_rows(tmp_path, [0, 1], split, train)}
+    rows = {r["method"]: r for r in estimator_rows(tmp_path, {"gps": [0, 1], "mpnn": [0]}, split, train)}
     assert len(rows) == 3 and rows[FLOOR]["val_iou"] == evaluate(ZeroCost(), split["val"], train)[1]
     for r in rows.values():
         assert r["test_minus_val"] == pytest.approx(r["test_iou"] - r["val_iou"])
     gps = rows["SuReNav estimator (GPS)"]
     assert gps["seeds"] == 2 and gps["val_iou_sd"] is not None and 0.0 <= gps["val_iou"] <= 1.0
+    assert rows["MPNN only (no attention, ablation)"]["val_iou_sd"] is None

@@ -119,13 +119,13 @@ def _surenav_factory(learned: Learned, method: str, seed: int):
 
 def benchmark_runs(learned: Learned) -> tuple[list[str], list[str]]:
     """(runs to execute, methods to report) of Table I and Fig. 4: the baselines, SuReNav on every
-    training seed, its two ablations (the MPNN one on the first ``benchmark.ablation_seeds`` seeds) and the
+    training seed, its two ablations (the MPNN one on the first ``train.ablation_seeds`` seeds) and the
     expert reference. Every estimator is loaded here, once (worker processes inherit them), so a missing
     one stops before any episode runs, naming the stage that builds it."""
     if learned.surenav is None or learned.artifacts_dir is None:
         raise ValueError("benchmark_runs needs Learned.from_training(..., artifacts_dir=, surenav=params.surenav)")
     seeds = list(learned.surenav.train.seeds)
-    runs = [*BASELINES, EXPERT, *surenav_runs(seeds, seeds[:learned.surenav.benchmark.ablation_seeds])]
+    runs = [*BASELINES, EXPERT, *surenav_runs(seeds, seeds[:learned.surenav.train.ablation_seeds])]
     for run in runs:
         if method_of(run) in VARIANT:
             _surenav_factory(learned, method_of(run), seed_of(run))

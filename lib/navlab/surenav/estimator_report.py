@@ -40,18 +40,18 @@ class ZeroCost(nn.Module):
         return torch.zeros(data.num_nodes)
 
 
-def estimator_rows(artifacts_dir: str | Path, seeds: Sequence[int], samples: Mapping[str, Sequence[Sample]],
+def estimator_rows(artifacts_dir: str | Path, seeds: Mapping[str, Sequence[int]], samples: Mapping[str, Sequence[Sample]],
                    train: TrainParams) -> list[dict]:
-    """One row per variant: mean and standard deviation over ``seeds`` of the plan IoU on each split
+    """One row per variant: mean and standard deviation over its ``seeds[variant]`` of the plan IoU on each split
     of ``samples`` (keys ``val`` and ``test``)."""
     rows = []
     for variant in VARIANTS:
         per_split: dict[str, list[float]] = {split: [] for split in samples}
-        for seed in seeds:
+        for seed in seeds[variant]:
             model = load_estimator(model_path(artifacts_dir, variant, seed))
             for split, chosen in samples.items():
                 per_split[split].append(evaluate(model, chosen, train)[1])
-        row = {"method": NAMES[variant], "seeds": len(seeds)}
+        row = {"method": NAMES[variant], "seeds": len(seeds[variant])}
         for split, values in per_split.items():
             row[f"{split}_iou"] = float(np.mean(values))
             row[f"{split}_iou_sd"] = float(np.std(values, ddof=1)) if len(values) > 1 else None

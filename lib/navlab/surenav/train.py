@@ -12,13 +12,24 @@ atomically; the epoch's sample order comes from ``rng(seed, "surenav.train", epo
 killed and started again ends at the weights of an uninterrupted run. The checkpoint is keyed on the
 code (``core.fingerprint.code_fingerprint`` of this module: every navlab module it imports,
 transitively — the estimator, its inputs, the loss, the differentiable A*), every parameter that
-shapes the weights (epochs included) and the inputs; only a run of the same key resumes, a finished one is rebuilt
-under a new key. ``model.pt`` holds the weights of the epoch with the best validation relaxation IoU
-(early stopping on the validation maps: on the default set the IoU peaked after the first epoch and
-then fell, 0.43 / 0.41 / 0.36). Files in a run folder: ``checkpoint.pt``, ``model.pt``, ``log.tsv``
-(epoch, train_loss, val_loss, val_iou, train_iou — for `dvc plots`; the train IoU, on a fixed fifth
-of the training samples, tells overfitting (train up, validation down) from a loss that stops tracking
-the IoU (both flat or falling while the loss falls)).
+shapes the weights (epochs included) and the inputs; only a run of the same key resumes, a finished one
+is rebuilt under a new key. ``model.pt`` holds the weights of the epoch with the best validation
+relaxation IoU; training stops early after ``patience`` epochs without a better one. Files in a run
+folder: ``checkpoint.pt``, ``model.pt``, ``log.tsv`` (epoch, train_loss, val_loss, val_iou, train_iou —
+for `dvc plots`; the train IoU is measured on a fixed fifth of the training samples).
+
+Why the false positives are counted on the plan (``false_positives_on: path``). Measured on the default
+set (GPS, seed 0, lr 3e-4, IoU every 30-40 steps of batch 8; 130 steps = 1 epoch): with the paper's
+closed-set count the validation IoU rose to 0.43 at ~130 steps and drifted down (0.42 at 180 steps; an
+earlier 3-epoch run: 0.43 / 0.41 / 0.36) while the train *and* validation losses kept falling (1.69 ->
+0.64). The IoU on a fixed fifth of the training samples fell with it (0.44 -> 0.43) and the test tiles
+sat at the validation level (0.41): not overfitting, and no procedural-to-real gap, but a loss that
+stops tracking the plan (our reading: the closed-set term can keep falling by raising Psi on soft
+regions the search explores but the plan never crosses). Counting the false positives on the
+plan's relaxed regions (false negatives still on the closed set, so they keep their gradient) kept the
+IoU rising through the second epoch (0.44 at 120 steps, 0.46 at 200; test 0.42). The remaining ceiling is
+the data's: each demonstration comes from one of three hidden personas that relax differently, which
+a persona-blind estimator cannot tell apart (the persona-aware expert reaches 0.71 in Table I).
 """
 
 from __future__ import annotations
@@ -63,7 +74,7 @@ def samples_key(samples: Sequence[Sample]) -> str:
 
 
 def run_key(model: EstimatorParams, train: TrainParams, *, seed: int, attention: bool, inputs: str) -> str:
-    settings = {k: v for k, v in dataclasses.asdict(train).items() if k not in ("device", "threads", "seeds")}
+    settings = {k: v for k, v in dataclasses.asdict(train).items() if k not in ("device", "threads", "seeds", "ablation_seeds")}
     return sha256_json({"code": code_fingerprint(__name__), "model": dataclasses.asdict(model), "train": settings, "seed": seed,
                         "attention": attention, "inputs": inputs})
 
@@ -98,6 +109,13 @@ def plan_iou(result: DiffAStarResult, samples: Sequence[Sample]) -> list[float]:
     return out
 
 
+def training_loss(result: DiffAStarResult, v: torch.Tensor, target: torch.Tensor, train: TrainParams) -> torch.Tensor:
+    """Eq. (13) on a planned batch, the false positives counted where ``train.false_positives_on`` says:
+    on the closed set (the paper) or on the plan's relaxed regions, path ⊙ R_soft (``loss`` module)."""
+    planned = None if train.false_positives_on == "closed" else result.path * (v.detach() > 0).to(v.dtype)
+    return batch_loss(v, target, train, planned)
+
+
 @torch.no_grad()
 def evaluate(model: RelaxationCostEstimator, samples: Sequence[Sample], train: TrainParams,
              device: str | torch.device = "cpu") -> tuple[float, float]:
@@ -107,7 +125,7 @@ def evaluate(model: RelaxationCostEstimator, samples: Sequence[Sample], train: T
     for lo in range(0, len(samples), train.batch_size):
         chunk = samples[lo:lo + train.batch_size]
         result, v, target = plan_batch(model, chunk, train.temperature, device)
-        losses.append(float(batch_loss(v, target, train)) * len(chunk))
+        losses.append(float(training_loss(result, v, target, train)) * len(chunk))
         ious += plan_iou(result, chunk)
     return float(np.sum(losses) / max(len(samples), 1)), float(np.mean(ious)) if ious else float("nan")
 
@@ -164,8 +182,8 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
         losses = []
         for lo in range(0, len(order), train.batch_size):
             chunk = [train_samples[i] for i in order[lo:lo + train.batch_size]]
-            _, v, target = plan_batch(model, chunk, train.temperature, device)
-            loss = batch_loss(v, target, train)
+            result, v, target = plan_batch(model, chunk, train.temperature, device)
+            loss = training_loss(result, v, target, train)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()

@@ -45,5 +45,4 @@ class BenchmarkParams:
     rcr: RCRParams
     bootstrap_samples: int = between(1)  # resamples of environments for each 95% interval
     workers: int = between(1)  # processes running episodes side by side (the outcomes do not depend on it)
-    ablation_seeds: int = between(1)  # training seeds (the first ones) the MPNN-only ablation rows run on
     behaviour_candidates: int = between(1)  # Fig. 5: first episodes per city among which the shown one is picked

@@ -28,6 +28,7 @@ class TrainParams:
     """End-to-end training through the differentiable graph A* (Sec. IV-D, Eq. 12-14)."""
 
     seeds: tuple[int, ...] = between(0)  # one model per seed; the reports give mean and spread
+    ablation_seeds: int = between(1)  # the MPNN-only ablation: the first this many seeds
     epochs: int = between(1)  # the most; early stopping may end sooner
     patience: int = between(0)  # stop after this many epochs without a better validation IoU (0: never)
     batch_size: int = between(1)
@@ -39,6 +40,7 @@ class TrainParams:
     weight_w_fp: float = between(0.0)  # Eq. (14): the per-sample weight's own w_fp (paper 0.5)
     weight_w_fn: float = between(0.0)  # Eq. (14): the per-sample weight's own w_fn (paper 0.5)
     temperature: float = between(1e-6)  # lambda of Eq. (10), the selection softmax temperature
+    false_positives_on: Literal["closed", "path"]  # Eq. (12)'s FP term on the closed set (paper) or the plan
     max_demos: int = between(0)  # training demonstrations used per split (0: all)
     device: str  # "cpu" or "cuda"
     threads: int = between(1, 64)  # torch CPU threads
