@@ -57,6 +57,9 @@ def test_loss_eq12_by_hand_and_sample_weight_eq14():
     w = sample_weights(v, target, gamma=0.5)
     torch.testing.assert_close(w, torch.tensor([min(1.0, (1.5 / 4) ** 0.5), 0.0]))
     assert not w.requires_grad
+    # false positives counted on the plan (path ∩ R_soft, here node 0 only): node 1 was explored, not crossed
+    planned = torch.tensor([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]])
+    torch.testing.assert_close(relaxation_loss(v, target, 0.3, 0.7, planned), torch.tensor([1.4 / 4, 0.0]))
 
 
 def test_sample_targets_are_the_crossing_regions(samples):
