@@ -11,7 +11,18 @@ import pytest
 from navlab.core.labels import FREE_IDS, HARD_IDS, NUM_LABELS, label_id
 from navlab.maps.dataset import load_maps
 from navlab.surenav import paper
-from navlab.surenav.benchmark import EXPERT, Learned, fig4_rows, run_all, table1_rows
+from navlab.surenav.benchmark import (
+    EXPERT,
+    SURENAV,
+    Learned,
+    Outcome,
+    fig4_rows,
+    method_of,
+    run_all,
+    seed_run,
+    surenav_runs,
+    table1_rows,
+)
 from navlab.surenav.demo_priors import (
     LabelTraversal,
     class_order,
@@ -126,27 +137,31 @@ def _fig4(spl, risk, length, sr=None):
 
 
 def test_fig4_claims_hold_on_the_papers_pattern_and_fail_otherwise():
-    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.8, "SuReNav": 0.85}
+    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.8, "SuReNav": 0.9}
     risk = {"D* Lite": 40.0, "COA*": 15.0, "RCR": 30.0, "SuReNav": 20.0}
     length = {"D* Lite": 150.0, "COA*": 240.0, "RCR": 170.0, "SuReNav": 160.0}
     claims = paper.fig4_claims(_fig4(spl, risk, length))
-    assert [c.holds for c in claims] == [True, True, True, True, True]
-    spl["RCR"] = 0.99
-    risk["D* Lite"] = 21.0
+    # D* Lite best SPL, SuReNav near-best SPL, SuReNav below D* Lite's risk, x2 risk, COA* longest, +50%, SR
+    assert [c.holds for c in claims] == [True, True, True, True, True, True, True]
+    spl["RCR"], spl["SuReNav"] = 0.99, 0.7
+    risk["D* Lite"] = 19.0
     claims = paper.fig4_claims(_fig4(spl, risk, length, sr={**dict.fromkeys(spl, 1.0), "COA*": 0.9}))
-    assert [c.holds for c in claims] == [False, False, True, True, False]
+    assert [c.holds for c in claims] == [False, False, False, False, True, True, False]
     no_surenav = [r for r in _fig4(spl, risk, length) if r["method"] != "SuReNav"]
     claims = paper.fig4_claims(no_surenav)
-    assert claims[1].holds is None and claims[3].holds is None and claims[0].holds is False
+    assert [c.holds for c in claims[1:4]] == [None, None, None] and claims[5].holds is None
+    assert claims[0].holds is False
 
 
 def test_table1_claims():
     rows = [dict(r) for r in paper.TABLE1]
-    assert [c.holds for c in paper.table1_claims(rows)] == [True, True, True]
+    assert [c.holds for c in paper.table1_claims(rows)] == [True, True, True, True, True]
+    rows[3]["relaxation_iou"] = 0.3  # best, but only 11% above COA*
+    assert [c.holds for c in paper.table1_claims(rows)] == [True, True, True, True, False]
     rows = [r for r in rows if r["method"] != "SuReNav"]
     rows[0]["frechet"] = 0.9  # D* Lite now the worst by Fréchet
     claims = paper.table1_claims(rows)
-    assert claims[0].holds is False and claims[1].holds is True and claims[2].holds is None
+    assert claims[0].holds is False and claims[1].holds is True and [c.holds for c in claims[2:]] == [None] * 3
 
 
 def test_dstar_costs_of_the_smoke_data_are_finite_on_walkable_labels(smoke_data, smoke_params):
@@ -166,3 +181,27 @@ def test_workers_do_not_change_outcomes(smoke_data, episodes_dir, smoke_params):
     assert [(o.method, o.environment) for o in one] == [(o.method, o.environment) for o in two]
     for a, b in zip(one, two, strict=True):
         assert np.array_equal(a.trajectory, b.trajectory) and a.total_risk == b.total_risk
+
+
+def _outcome(run, env, success, spl, iou):
+    return Outcome(run, env, "milan", "reached" if success else "stuck", success, 100.0, 90.0, spl, 1.0, 0.2, iou,
+                   (0.01,), np.zeros((2, 2)))
+
+
+def test_seed_runs_are_averaged_per_environment_with_their_spread(smoke_params):
+    settings = smoke_params.surenav.benchmark
+    assert method_of(seed_run(SURENAV, 2)) == SURENAV and method_of("RCR") == "RCR"
+    assert [method_of(r) for r in surenav_runs([0, 1], [0])].count(SURENAV) == 2
+    spl = {(0, "e0"): 0.8, (0, "e1"): 0.6, (0, "e2"): 1.0, (1, "e0"): 0.4, (1, "e1"): 0.6, (1, "e2"): 0.8}
+    outcomes = [_outcome(seed_run(SURENAV, k), e, spl[k, e] > 0.5, spl[k, e], spl[k, e] / 2) for k, e in spl]
+    outcomes += [_outcome("RCR", e, True, 0.5, 0.25) for e in ("e0", "e1", "e2")]
+    rows = {r["method"]: r for r in fig4_rows(outcomes, [SURENAV, "RCR"], settings)}
+    row = rows[SURENAV]
+    assert row["episodes"] == 3 and row["seeds"] == 2
+    assert row["spl"] == pytest.approx(np.mean(list(spl.values())))
+    assert row["spl_seed_sd"] == pytest.approx(np.std([0.8, 0.6], ddof=1), abs=1e-4)  # seed means 0.8 and 0.6
+    assert row["sr"] == pytest.approx(5 / 6) and row["sr_seed_sd"] == pytest.approx(np.std([1.0, 2 / 3], ddof=1), abs=1e-4)
+    assert row["spl_ci"][0] <= row["spl"] <= row["spl_ci"][1]
+    assert rows["RCR"]["seeds"] == 1 and rows["RCR"]["spl_seed_sd"] is None
+    t1 = {r["method"]: r for r in table1_rows(outcomes, [SURENAV, "RCR"], settings)}
+    assert t1[SURENAV]["environments"] == 3 and t1[SURENAV]["relaxation_iou"] == pytest.approx(0.35)

@@ -103,3 +103,39 @@ def test_learned_policy_loads_the_trained_estimator(town, tmp_path):
     assert cells is not None and tuple(cells[-1]) == (22, 34)
     with pytest.raises(DataError, match="surenav_estimator"):
         learned_policy(tmp_path, params, "mpnn")
+
+
+def test_benchmark_makes_surenav_runs_and_stops_on_a_missing_estimator(town, tmp_path):
+    """The benchmark's SuReNav runs: a seed of the GPS estimator, RCR's scoring in its place, the MPNN
+    ablation; ``benchmark_runs`` loads every estimator first, so a missing one stops before any episode."""
+    from navlab.surenav.benchmark import (
+        SURENAV,
+        SURENAV_MPNN,
+        SURENAV_RCR,
+        Learned,
+        benchmark_runs,
+        seed_run,
+        surenav_policy,
+    )
+
+    smap, graph = town
+    p = load_params("smoke")
+    learned = Learned(np.ones(1), np.zeros(0, dtype=int), str(tmp_path), p.surenav)
+    with pytest.raises(DataError, match="surenav_estimator"):
+        benchmark_runs(learned)
+    torch.manual_seed(0)
+    for variant, attention in (("gps", True), ("mpnn", False)):
+        model = build_estimator(p.surenav.model, attention)
+        path = model_path(tmp_path, variant, p.surenav.train.seeds[0])
+        path.parent.mkdir(parents=True)
+        torch.save({**architecture(model), "weights": model.state_dict()}, path)
+    runs, methods = benchmark_runs(learned)
+    assert seed_run(SURENAV, p.surenav.train.seeds[0]) in runs and SURENAV_RCR in runs
+    assert {SURENAV, SURENAV_RCR, SURENAV_MPNN} <= set(methods)
+    for run in (seed_run(SURENAV, 0), SURENAV_RCR, seed_run(SURENAV_MPNN, 0)):
+        policy = surenav_policy(run, learned, p.surenav.benchmark)
+        cells = policy.plan(smap, graph, (1, 1), (22, 34))
+        assert cells is not None and tuple(cells[-1]) == (22, 34), run
+    rcr = surenav_policy(SURENAV_RCR, learned, p.surenav.benchmark)
+    rcr.plan(smap, graph, (1, 1), (22, 34))
+    assert len(rcr.last_relaxed) > 0  # the band must be crossed: RCR's scores decided where

@@ -57,6 +57,9 @@ def test_loss_eq12_by_hand_and_sample_weight_eq14():
     w = sample_weights(v, target, gamma=0.5)
     torch.testing.assert_close(w, torch.tensor([min(1.0, (1.5 / 4) ** 0.5), 0.0]))
     assert not w.requires_grad
+    # false positives counted on the plan (path ∩ R_soft, here node 0 only): node 1 was explored, not crossed
+    planned = torch.tensor([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]])
+    torch.testing.assert_close(relaxation_loss(v, target, 0.3, 0.7, planned), torch.tensor([1.4 / 4, 0.0]))
 
 
 def test_sample_targets_are_the_crossing_regions(samples):
@@ -125,3 +128,48 @@ def test_learns_to_relax_the_label_the_expert_always_relaxes(settings, samples, 
         psi = model(s.data)
     labels = s.data.x[:, :GRASS + 1].argmax(1)
     assert psi[labels == CROSSWALK].max() < psi[labels == GRASS].min()
+
+
+def test_run_key_follows_the_code_the_training_imports(settings, samples, tmp_path, monkeypatch):
+    """The key is core.fingerprint's (derived from imports): it covers the loss, the estimator and the
+    differentiable A*; a finished run is rebuilt, not reused, once the code's fingerprint changes."""
+    from navlab.core.fingerprint import imported_modules
+
+    covered = imported_modules("navlab.surenav.train")
+    for module in ("navlab.surenav.loss", "navlab.surenav.model.gated_gcn", "navlab.search.diff_astar",
+                   "navlab.surenav.training_data", "navlab.core.params.surenav_model"):
+        assert module in covered, module
+    model_params, train = settings
+    train = dataclasses.replace(train, epochs=1)
+    first = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                       progress=False), weights_only=False)
+    again = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                       progress=False), weights_only=False)
+    assert again["key"] == first["key"]
+    monkeypatch.setattr(training, "code_fingerprint", lambda *names: "edited code")
+    rebuilt = torch.load(train_estimator(samples[:4], samples[4:6], model_params, train, tmp_path, seed=0,
+                                         progress=False), weights_only=False)
+    assert rebuilt["key"] != first["key"]
+
+
+def test_estimator_report_rows_give_the_gap_and_the_zero_cost_floor(settings, samples, tmp_path):
+    from navlab.surenav.artifacts import model_path
+    from navlab.surenav.estimator_report import FLOOR, ZeroCost, estimator_rows
+    from navlab.surenav.model.estimator import architecture
+
+    model_params, train = settings
+    torch.manual_seed(0)
+    for variant, attention in (("gps", True), ("mpnn", False)):
+        for seed in (0, 1):
+            model = build_estimator(model_params, attention)
+            path = model_path(tmp_path, variant, seed)
+            path.parent.mkdir(parents=True)
+            torch.save({**architecture(model), "weights": model.state_dict()}, path)
+    split = {"val": samples[:6], "test": samples[6:12]}
+    rows = {r["method"]: r for r in estimator_rows(tmp_path, {"gps": [0, 1], "mpnn": [0]}, split, train)}
+    assert len(rows) == 3 and rows[FLOOR]["val_iou"] == evaluate(ZeroCost(), split["val"], train)[1]
+    for r in rows.values():
+        assert r["test_minus_val"] == pytest.approx(r["test_iou"] - r["val_iou"])
+    gps = rows["SuReNav estimator (GPS)"]
+    assert gps["seeds"] == 2 and gps["val_iou_sd"] is not None and 0.0 <= gps["val_iou"] <= 1.0
+    assert rows["MPNN only (no attention, ablation)"]["val_iou_sd"] is None

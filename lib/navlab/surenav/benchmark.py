@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from navlab.core.params.surenav import SuReNavParams
 from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
@@ -39,30 +40,101 @@ from navlab.surenav.demo_priors import class_order, dstar_label_costs, load_trai
 from navlab.surenav.episodes import Environment, window
 from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.experts.store import load_demos
+from navlab.surenav.policy import SuReNavPolicy, learned_policy, scored_cost
 
 BASELINES = ("D* Lite", "COA*", "RCR")
 EXPERT = "Expert (reference)"
 SURENAV = "SuReNav"
+SURENAV_RCR = "SuReNav with RCR scoring (ablation)"  # RCR's scoring function in place of the learned Psi
+SURENAV_MPNN = "SuReNav, MPNN only (ablation)"  # the estimator without global attention
+VARIANT = {SURENAV: "gps", SURENAV_MPNN: "mpnn"}  # trained methods -> surenav_estimator folder
 NOT_RUN = {
-    SURENAV: "SuReNav (the learned relaxation-cost estimator) is issue 10 and not plugged in yet: its rows are null.",
+    SURENAV: ("SuReNav was not run in this call (it needs the trained estimators of the surenav_estimator stage): "
+              "its rows are null."),
     "ViPlanner^OSRM": "ViPlanner needs a photoreal 3D simulator and a vision model: out of scope, not run.",
 }
+_SEED = " [seed "
+
+
+def seed_run(method: str, seed: int) -> str:
+    """The run name of one training seed of a learned method (``method_of`` inverts it)."""
+    return f"{method}{_SEED}{seed}]"
+
+
+def method_of(run: str) -> str:
+    """The method a run belongs to: "SuReNav [seed 1]" -> "SuReNav"; a baseline is its own method."""
+    return run.split(_SEED)[0]
+
+
+def seed_of(run: str) -> int:
+    """The training seed of a ``seed_run`` name."""
+    return int(run[len(method_of(run)) + len(_SEED):-1])
+
+
+def surenav_runs(seeds, ablation_seeds) -> list[str]:
+    """SuReNav on every training seed, the RCR-scoring ablation (no training: one run) and the MPNN-only
+    ablation on ``ablation_seeds``."""
+    return [*(seed_run(SURENAV, s) for s in seeds), SURENAV_RCR, *(seed_run(SURENAV_MPNN, s) for s in ablation_seeds)]
 
 
 @dataclass(frozen=True)
 class Learned:
-    """What the baselines take from the TRAINING demonstrations (``demo_priors``)."""
+    """What the methods take from the TRAINING demonstrations: the baselines' priors (``demo_priors``)
+    and, for SuReNav, where its trained estimators are (``surenav_estimator`` stage) and its settings."""
     dstar_costs: np.ndarray  # (NUM_LABELS,) D* Lite cost per metre
     class_order: np.ndarray  # COA*: soft labels, most critical first
+    artifacts_dir: str | None = None  # holds surenav/{gps,mpnn}/seed<k>/model.pt
+    surenav: SuReNavParams | None = None
 
     @classmethod
-    def from_training(cls, data_dir: str | Path, settings: BenchmarkParams) -> Learned:
+    def from_training(cls, data_dir: str | Path, settings: BenchmarkParams, artifacts_dir: str | Path | None = None,
+                      surenav: SuReNavParams | None = None) -> Learned:
         traversal = load_training_traversal(data_dir)
-        return cls(dstar_label_costs(traversal, settings.dstar_cost_floor), class_order(traversal))
+        return cls(dstar_label_costs(traversal, settings.dstar_cost_floor), class_order(traversal),
+                   None if artifacts_dir is None else str(artifacts_dir), surenav)
+
+
+_FACTORIES: dict = {}  # (artifacts_dir, variant, seed) -> policy factory: each estimator loads once per process
+
+
+def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Policy:
+    """A fresh SuReNav policy for a run of ``surenav_runs``."""
+    if learned.artifacts_dir is None or learned.surenav is None:
+        raise ValueError(f"{run!r} needs the trained estimators: build Learned.from_training(..., artifacts_dir=, "
+                         "surenav=params.surenav)")
+    s = learned.surenav
+    method = method_of(run)
+    if method == SURENAV_RCR:
+        score = RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight).score
+        return SuReNavPolicy(scored_cost(score, s.planner.rcr_scale_m), s.planner.mode, s.model.window_margin_m)
+    return _surenav_factory(learned, method, seed_of(run))()
+
+
+def _surenav_factory(learned: Learned, method: str, seed: int):
+    key = (learned.artifacts_dir, VARIANT[method], seed)
+    if key not in _FACTORIES:
+        _FACTORIES[key] = learned_policy(learned.artifacts_dir, learned.surenav, VARIANT[method], seed)
+    return _FACTORIES[key]
+
+
+def benchmark_runs(learned: Learned) -> tuple[list[str], list[str]]:
+    """(runs to execute, methods to report) of Table I and Fig. 4: the baselines, SuReNav on every
+    training seed, its two ablations (the MPNN one on the first ``train.ablation_seeds`` seeds) and the
+    expert reference. Every estimator is loaded here, once (worker processes inherit them), so a missing
+    one stops before any episode runs, naming the stage that builds it."""
+    if learned.surenav is None or learned.artifacts_dir is None:
+        raise ValueError("benchmark_runs needs Learned.from_training(..., artifacts_dir=, surenav=params.surenav)")
+    seeds = list(learned.surenav.train.seeds)
+    runs = [*BASELINES, EXPERT, *surenav_runs(seeds, seeds[:learned.surenav.train.ablation_seeds])]
+    for run in runs:
+        if method_of(run) in VARIANT:
+            _surenav_factory(learned, method_of(run), seed_of(run))
+    return runs, [*BASELINES, SURENAV, SURENAV_RCR, SURENAV_MPNN, EXPERT]
 
 
 def make_policy(method: str, env: Environment, learned: Learned, settings: BenchmarkParams) -> Policy:
-    """A fresh policy for one episode."""
+    """A fresh policy for one episode; ``method`` is a baseline, the expert or a SuReNav run
+    (``surenav_runs``)."""
     res = env.prior.frame.resolution
     if method == "D* Lite":
         return DStarLitePolicy(learned.dstar_costs)
@@ -72,7 +144,10 @@ def make_policy(method: str, env: Environment, learned: Learned, settings: Bench
         return RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight)
     if method == EXPERT:
         return ExpertPolicy(PERSONAS[env.persona], int(np.ceil(settings.executor.window_margin_m / res)))
-    raise ValueError(f"unknown method {method!r}; methods are {', '.join((*BASELINES, EXPERT))}")
+    if method_of(method) in (*VARIANT, SURENAV_RCR) and (method == SURENAV_RCR or _SEED in method):
+        return surenav_policy(method, learned, settings)
+    raise ValueError(f"unknown method {method!r}; methods are {', '.join((*BASELINES, EXPERT))} and the SuReNav "
+                     f"runs {seed_run(SURENAV, 0)!r}, {SURENAV_RCR!r}, {seed_run(SURENAV_MPNN, 0)!r}")
 
 
 @dataclass(frozen=True)
@@ -160,37 +235,63 @@ def _mean_ci(values, settings: BenchmarkParams, *key) -> tuple[float, list[float
 
 
 def replan_seconds(outcomes: list[Outcome], method: str) -> np.ndarray:
-    return np.array([s for o in outcomes if o.method == method for s in o.replan_seconds])
+    return np.array([s for o in outcomes if method_of(o.method) == method for s in o.replan_seconds])
+
+
+def _per_environment(mine: list[Outcome], value) -> tuple[np.ndarray, np.ndarray]:
+    """(per-environment value averaged over the method's runs — its training seeds —, per-run means)."""
+    envs, runs = list(dict.fromkeys(o.environment for o in mine)), list(dict.fromkeys(o.method for o in mine))
+    table = {(o.environment, o.method): float(value(o)) for o in mine}
+    grid = np.array([[table[e, r] for r in runs] for e in envs])
+    return grid.mean(axis=1), grid.mean(axis=0)
+
+
+def _seed_sd(per_run: np.ndarray) -> float | None:
+    """Standard deviation over training seeds of a method's mean (None for a single run)."""
+    return round(float(np.std(per_run, ddof=1)), 4) if len(per_run) > 1 else None
 
 
 def fig4_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> list[dict]:
-    """Per method and city: SR (Wilson), SPL, total risk and path length (bootstrap), means over episodes."""
+    """Per method and city: SR, SPL, total risk and path length, means over episodes with 95% intervals
+    (Wilson for a single run's SR, else bootstrap over episodes); a method trained on several seeds
+    (``seed_run``) averages each episode over its seeds and gives the seed spread (``*_seed_sd``)."""
     rows = []
     for method in methods:
         for city in dict.fromkeys(o.group for o in outcomes):
-            mine = [o for o in outcomes if o.method == method and o.group == city]
+            mine = [o for o in outcomes if method_of(o.method) == method and o.group == city]
             if not mine:
                 continue
-            wins = sum(o.success for o in mine)
-            row = {"method": method, "city": city, "episodes": len(mine), "sr": wins / len(mine),
-                   "sr_ci": [round(v, 4) for v in wilson_ci(wins, len(mine))]}
-            for col, values in (("spl", [o.spl for o in mine]), ("total_risk", [o.total_risk for o in mine]),
-                                ("path_length_m", [o.length_m for o in mine])):
-                row[col], row[f"{col}_ci"] = _mean_ci(values, settings, "fig4", method, city, col)
+            episodes, per_run = _per_environment(mine, lambda o: o.success)
+            row = {"method": method, "city": city, "episodes": len(episodes), "seeds": len(per_run),
+                   "sr": float(episodes.mean())}
+            if len(per_run) == 1:
+                row["sr_ci"] = [round(v, 4) for v in wilson_ci(int(episodes.sum()), len(episodes))]
+            else:
+                row["sr_ci"] = _mean_ci(episodes, settings, "fig4", method, city, "sr")[1]
+            row["sr_seed_sd"] = _seed_sd(per_run)
+            for col, value in (("spl", lambda o: o.spl), ("total_risk", lambda o: o.total_risk),
+                               ("path_length_m", lambda o: o.length_m)):
+                episodes, per_run = _per_environment(mine, value)
+                row[col], row[f"{col}_ci"] = _mean_ci(episodes, settings, "fig4", method, city, col)
+                row[f"{col}_seed_sd"] = _seed_sd(per_run)
             rows.append(row)
     return rows
 
 
 def table1_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> list[dict]:
-    """Per method: normalised Fréchet and relaxation IoU (bootstrap), and SR, over all environments."""
+    """Per method: normalised Fréchet and relaxation IoU (bootstrap over environments), and SR; several
+    training seeds are averaged per environment, with the seed spread (``*_seed_sd``)."""
     rows = []
     for method in methods:
-        mine = [o for o in outcomes if o.method == method]
+        mine = [o for o in outcomes if method_of(o.method) == method]
         if not mine:
             continue
-        row = {"method": method, "environments": len(mine), "sr": float(np.mean([o.success for o in mine]))}
+        envs, per_run = _per_environment(mine, lambda o: o.success)
+        row = {"method": method, "environments": len(envs), "seeds": len(per_run), "sr": float(envs.mean())}
         for col in ("frechet", "relaxation_iou"):
-            row[col], row[f"{col}_ci"] = _mean_ci([getattr(o, col) for o in mine], settings, "table1", method, col)
+            envs, per_run = _per_environment(mine, lambda o, col=col: getattr(o, col))
+            row[col], row[f"{col}_ci"] = _mean_ci(envs, settings, "table1", method, col)
+            row[f"{col}_seed_sd"] = _seed_sd(per_run)
         rows.append(row)
     return rows
 
@@ -200,9 +301,11 @@ def null_rows(method: str, keys: list[dict], columns) -> list[dict]:
     return [{**k, "method": method, **{c: None for c in columns}} for k in keys]
 
 
-TABLE1_COLUMNS = ["method", "environments", "frechet", "frechet_ci", "relaxation_iou", "relaxation_iou_ci", "sr"]
-FIG4_COLUMNS = ["method", "city", "episodes", "sr", "sr_ci", "spl", "spl_ci", "total_risk", "total_risk_ci",
-                "path_length_m", "path_length_m_ci"]
+TABLE1_COLUMNS = ["method", "environments", "seeds", "frechet", "frechet_ci", "frechet_seed_sd", "relaxation_iou",
+                  "relaxation_iou_ci", "relaxation_iou_seed_sd", "sr"]
+FIG4_COLUMNS = ["method", "city", "episodes", "seeds", "sr", "sr_ci", "sr_seed_sd", "spl", "spl_ci", "spl_seed_sd",
+                "total_risk", "total_risk_ci", "total_risk_seed_sd", "path_length_m", "path_length_m_ci",
+                "path_length_m_seed_sd"]
 
 
 def replan_note(outcomes: list[Outcome], methods) -> str:
@@ -211,11 +314,10 @@ def replan_note(outcomes: list[Outcome], methods) -> str:
     for m in methods:
         t = replan_seconds(outcomes, m)
         if len(t):
-            episodes = sum(o.method == m for o in outcomes)
+            episodes = sum(method_of(o.method) == m for o in outcomes)
             parts.append(f"{m} {1e3 * np.median(t):.1f} ms median / {1e3 * np.quantile(t, 0.95):.1f} ms p95 "
                          f"({len(t) / episodes:.1f} re-plans per episode)")
     return "Per re-plan time (2-core CPU): " + "; ".join(parts) + "."
-
 
 
 def most_contrasting(outcomes: list[Outcome]) -> dict[str, str]:

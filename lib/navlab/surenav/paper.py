@@ -28,6 +28,8 @@ FIG4_SR = (
 
 ROUGHLY_TWICE = (1.5, 3.0)  # "roughly twice the Total Risk"
 ABOUT_HALF_LONGER = (1.25, 1.75)  # "about 50% longer"
+NEAR_BEST_SPL = 0.9  # "comparable ... efficiency": SuReNav's SPL at least this fraction of the best method's
+IOU_MARGIN = 1.44  # "its relaxation IoU is 44% higher than the next-best approach"
 
 
 @dataclass(frozen=True)
@@ -35,10 +37,29 @@ class Claim:
     text: str  # the paper's claim
     holds: bool | None  # None: a method it needs was not run
     evidence: str  # our numbers behind the verdict
+    why: str = ""  # what in our set-up explains it when it does not hold
 
     def line(self) -> str:
         verdict = {True: "holds", False: "does not hold", None: "undecided"}[self.holds]
-        return f"{self.text}: {verdict} ({self.evidence})"
+        why = f"; why: {self.why}" if self.holds is False and self.why else ""
+        return f"{self.text}: {verdict} ({self.evidence}{why})"
+
+
+# Why a claim can fail here, stated once (shown only beside a claim that does not hold).
+WHY_SYNTHETIC_EXPERT = ("our demonstrations come from a synthetic expert that is itself a per-label-cost planner "
+                        "(three hidden personas), and D* Lite's per-label costs are fitted to its traversal rates on "
+                        "the training maps, so D* Lite is the baseline closest in kind to the expert; the paper's "
+                        "human demonstrators favour no such planner")
+WHY_PERSONA_BLIND = ("each demonstration comes from one of three hidden personas that relax differently; the estimator "
+                     "sees the map and the query but not the persona, so it learns their average (see "
+                     "estimator_relaxation_iou for its graph-level IoU and the Expert row for the persona-aware "
+                     "ceiling)")
+WHY_DSTAR_FITTED = ("; D* Lite's per-label costs, fitted to the traversal rates of the same synthetic label-cost "
+                    "expert, already reproduce its dominant choices")
+
+
+def _why_behind(winner: str) -> str:
+    return WHY_PERSONA_BLIND + (WHY_DSTAR_FITTED if winner == "D* Lite" else "")
 
 
 def _value(rows: list[dict], method: str, city: str | None, column: str) -> float | None:
@@ -64,7 +85,22 @@ def fig4_claims(rows: list[dict], baselines=("D* Lite", "COA*", "RCR"), surenav:
                         "; ".join(f"{c}: best {best[c]} ({spl[c][best[c]]:.3f}), D* Lite {spl[c]['D* Lite']:.3f}"
                                   for c in cities)))
 
+    if surenav in methods:
+        ratio = {c: spl[c][surenav] / max(spl[c][best[c]], 1e-12) for c in cities}
+        claims.append(Claim(f"{surenav}'s SPL is near the best (at least {NEAR_BEST_SPL:.0%} of the best method's)",
+                            all(r >= NEAR_BEST_SPL for r in ratio.values()),
+                            "; ".join(f"{c}: {spl[c][surenav]:.3f} = {r:.0%} of {best[c]}'s" for c, r in ratio.items())))
+    else:
+        claims.append(Claim(f"{surenav}'s SPL is near the best (at least {NEAR_BEST_SPL:.0%} of the best method's)",
+                            None, f"{surenav} not run"))
+
     risk = {c: {m: _value(rows, m, c, "total_risk") for m in methods} for c in cities}
+    if surenav in methods:
+        claims.append(Claim(f"{surenav} has lower total risk than D* Lite in every city",
+                            all(risk[c][surenav] < risk[c]["D* Lite"] for c in cities),
+                            "; ".join(f"{c}: {risk[c][surenav]:.1f} vs {risk[c]['D* Lite']:.1f}" for c in cities)))
+    else:
+        claims.append(Claim(f"{surenav} has lower total risk than D* Lite in every city", None, f"{surenav} not run"))
     if surenav in methods:
         ratio = {c: risk[c]["D* Lite"] / max(risk[c][surenav], 1e-12) for c in cities}
         holds = all(ROUGHLY_TWICE[0] <= r <= ROUGHLY_TWICE[1] for r in ratio.values())
@@ -104,17 +140,25 @@ def table1_claims(rows: list[dict], baselines=("D* Lite", "COA*", "RCR"), surena
     ours = [m for m in sorted(baselines, key=lambda m: frechet.get(m, np.inf)) if m in frechet]
     claims.append(Claim(f"baselines by Fréchet distance, best first: {' < '.join(paper_frechet)}",
                         ours == paper_frechet if len(ours) == 3 else None,
-                        "ours: " + " < ".join(f"{m} {frechet[m]:.3f}" for m in ours)))
+                        "ours: " + " < ".join(f"{m} {frechet[m]:.3f}" for m in ours), WHY_SYNTHETIC_EXPERT))
     paper_iou = [r["method"] for r in sorted(TABLE1[:3], key=lambda r: -r["relaxation_iou"])]
     ours = [m for m in sorted(baselines, key=lambda m: -iou.get(m, -np.inf)) if m in iou]
     claims.append(Claim(f"baselines by relaxation IoU, best first: {' > '.join(paper_iou)}",
                         ours == paper_iou if len(ours) == 3 else None,
-                        "ours: " + " > ".join(f"{m} {iou[m]:.3f}" for m in ours)))
-    if surenav in ran:
-        best_f, best_i = min(frechet, key=frechet.get), max(iou, key=iou.get)
-        claims.append(Claim(f"{surenav} has the lowest Fréchet distance and the highest relaxation IoU",
-                            best_f == surenav and best_i == surenav, f"best Fréchet {best_f}, best IoU {best_i}"))
-    else:
-        claims.append(Claim(f"{surenav} has the lowest Fréchet distance and the highest relaxation IoU", None,
-                            f"{surenav} not run"))
+                        "ours: " + " > ".join(f"{m} {iou[m]:.3f}" for m in ours), WHY_SYNTHETIC_EXPERT))
+    texts = (f"{surenav} has the lowest Fréchet distance", f"{surenav} has the highest relaxation IoU",
+             f"{surenav}'s relaxation IoU is at least {IOU_MARGIN - 1:.0%} above the next best")
+    if surenav not in ran:
+        return claims + [Claim(text, None, f"{surenav} not run") for text in texts]
+    best_f = min(frechet, key=frechet.get)
+    claims.append(Claim(texts[0], best_f == surenav, "; ".join(f"{m} {frechet[m]:.3f}" for m in ran),
+                        _why_behind(best_f)))
+    best_i = max(iou, key=iou.get)
+    claims.append(Claim(texts[1], best_i == surenav, "; ".join(f"{m} {iou[m]:.3f}" for m in ran), _why_behind(best_i)))
+    runner_up = max((m for m in ran if m != surenav), key=iou.get)
+    ratio = iou[surenav] / max(iou[runner_up], 1e-12)
+    claims.append(Claim(texts[2], ratio >= IOU_MARGIN,
+                        f"{surenav} {iou[surenav]:.3f} vs next best {runner_up} {iou[runner_up]:.3f}: x{ratio:.2f} "
+                        f"(the paper: {TABLE1[3]['relaxation_iou']} vs {TABLE1[1]['relaxation_iou']})",
+                        _why_behind(runner_up)))
     return claims

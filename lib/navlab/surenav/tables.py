@@ -15,6 +15,8 @@ from navlab.surenav.benchmark import (
     FIG4_COLUMNS,
     NOT_RUN,
     SURENAV,
+    SURENAV_MPNN,
+    SURENAV_RCR,
     TABLE1_COLUMNS,
     Outcome,
     fig4_rows,
@@ -42,6 +44,23 @@ def _missing(methods) -> str:
     return " ".join(reason for m, reason in NOT_RUN.items() if m not in methods)
 
 
+def _learned(rows: list[dict], methods) -> str:
+    """How the SuReNav rows were made: seeds, the ablations, the planner."""
+    if SURENAV not in methods:
+        return ""
+    seeds = {r["method"]: r["seeds"] for r in rows if r.get("seeds") is not None}
+    parts = [(f"{SURENAV}: the GPS estimator of the surenav_estimator stage, {seeds.get(SURENAV)} training seeds; "
+              "each environment's value is the mean over seeds, the interval is over environments and *_seed_sd "
+              "is the standard deviation of the per-seed means; grid A* in R_free ∪ R_rlx (the paper's mode).")]
+    if SURENAV_RCR in methods:
+        parts.append(f"{SURENAV_RCR}: the same planner with Psi = surenav.planner.rcr_scale_m x RCR's score "
+                     "(label risk + goal-distance ratio) in place of the learned estimator (no training, one run).")
+    if SURENAV_MPNN in methods:
+        parts.append(f"{SURENAV_MPNN}: the estimator without global attention (GatedGCN layers only), "
+                     f"{seeds.get(SURENAV_MPNN)} training seed(s).")
+    return " ".join(parts)
+
+
 def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
     """Table I: normalised Fréchet distance and relaxation IoU against the semi-static test demonstrations."""
     rows = table1_rows(outcomes, methods, settings)
@@ -49,16 +68,17 @@ def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table
         rows += null_rows(SURENAV, [{}], [c for c in TABLE1_COLUMNS if c != "method"])
     claims = paper.table1_claims(rows)
     groups = len({o.group for o in outcomes})
-    notes = " ".join([
+    notes = " ".join(part for part in [
         (f"{len({o.environment for o in outcomes})} semi-static test environments on {groups} held-out real tiles "
          "with synthetic-expert demonstrations (the paper: 100 from 5 cities, human demonstrations)."),
         "Fréchet: discrete, normalised by the start-goal distance, over every episode's executed trajectory.",
         ("Relaxation IoU on superpixels of the demonstration's own region graph (one fixed partition for every "
          "method; cell sets of one-cell-wide paths barely overlap)."),
         f"{EXPERT}: the synthetic expert's planner run through the same executor (a ceiling, not a baseline).",
-        _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
+        _learned(rows, methods), _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples),
+        replan_note(outcomes, methods),
         "Claims: " + " | ".join(c.line() for c in claims),
-    ])
+    ] if part)
     return Table("table1_human_likeness", "SuReNav Table I", TABLE1_COLUMNS, rows,
                  [dict(r) for r in paper.TABLE1], notes, claims)
 
@@ -70,7 +90,7 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
     if SURENAV not in methods:
         rows += null_rows(SURENAV, [{"city": c} for c in cities], [c for c in FIG4_COLUMNS if c not in ("method", "city")])
     claims = paper.fig4_claims(rows)
-    notes = " ".join([
+    notes = " ".join(part for part in [
         (f"{len({o.environment for o in outcomes})} episodes on {len(cities)} held-out real tiles standing in for "
          "Milan, Baltimore and Capitol Hill (see data/surenav/maps/index.json roles); perturbations along OSRM "
          "routes aggregated per map; each method plans on the original map and walks the modified one "
@@ -79,9 +99,12 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
          "SR stated in the text. Total risk integrates our fixed per-label unit risks (params.yaml "
          "surenav.benchmark.unit_risk) along the path; the paper's are mean 0-1 scores of three language models."),
         f"{EXPERT}: the synthetic expert's planner through the same executor (a reference, not a baseline).",
+        _learned(rows, methods),
+        "SR intervals: Wilson for a single run, bootstrap over episodes of the seed-averaged success for a "
+        "method run on several training seeds." if SURENAV in methods else "",
         _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
         "Claims: " + " | ".join(c.line() for c in claims),
-    ])
+    ] if part)
     return Table("fig4_safety_efficiency", "SuReNav Fig. 4", FIG4_COLUMNS, rows,
                  [dict(r) for r in paper.FIG4_SR], notes, claims)
 

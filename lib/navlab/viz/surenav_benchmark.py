@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from navlab.core.labels import HARD_IDS
+from navlab.surenav.benchmark import EXPERT, SURENAV, SURENAV_MPNN, SURENAV_RCR
 from navlab.viz.region_graphs import draw_labels
 
 MARKERS = {"milan": "o", "baltimore": "s", "capitol_hill": "^"}
-COLOURS = {"D* Lite": "tab:blue", "COA*": "tab:purple", "RCR": "tab:red", "SuReNav": "tab:green",
-           "Expert (reference)": "black"}
+COLOURS = {"D* Lite": "tab:blue", "COA*": "tab:purple", "RCR": "tab:red", SURENAV: "tab:green",
+           SURENAV_RCR: "tab:olive", SURENAV_MPNN: "tab:cyan", EXPERT: "black"}
 
 
 def draw_safety_efficiency(ax, rows: list[dict]) -> None:

@@ -48,14 +48,15 @@ def draw_relaxation_costs(ax, semantic_map: SemanticMap, graph: RegionGraph, nod
 
 
 def draw_training_curves(ax_loss, ax_iou, logs: Mapping[str, list[dict]]) -> None:
-    """Train / validation loss (Eq. 13) and validation relaxation IoU per epoch, one line per run."""
+    """Train / validation loss (Eq. 13) and relaxation IoU per epoch, one colour per run."""
     for k, (name, rows) in enumerate(logs.items()):
         epochs = [r["epoch"] for r in rows]
         colour = f"C{k}"
         ax_loss.plot(epochs, [r["train_loss"] for r in rows], "-", color=colour, label=f"{name} train")
         ax_loss.plot(epochs, [r["val_loss"] for r in rows], "--", color=colour, label=f"{name} val")
-        ax_iou.plot(epochs, [r["val_iou"] for r in rows], "o-", color=colour, label=name)
-    for ax, label in ((ax_loss, "loss (Eq. 13)"), (ax_iou, "validation relaxation IoU")):
+        ax_iou.plot(epochs, [r["val_iou"] for r in rows], "o-", color=colour, label=f"{name} val")
+        ax_iou.plot(epochs, [r["train_iou"] for r in rows], ":", color=colour, label=f"{name} train")
+    for ax, label in ((ax_loss, "loss (Eq. 13)"), (ax_iou, "plan relaxation IoU (val o-, train :)")):
         ax.set_xlabel("epoch")
         ax.set_ylabel(label)
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))

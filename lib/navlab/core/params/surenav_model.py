@@ -28,7 +28,9 @@ class TrainParams:
     """End-to-end training through the differentiable graph A* (Sec. IV-D, Eq. 12-14)."""
 
     seeds: tuple[int, ...] = between(0)  # one model per seed; the reports give mean and spread
-    epochs: int = between(1)
+    ablation_seeds: int = between(1)  # the MPNN-only ablation: the first this many seeds
+    epochs: int = between(1)  # the most; early stopping may end sooner
+    patience: int = between(0)  # stop after this many epochs without a better validation IoU (0: never)
     batch_size: int = between(1)
     lr: float = between(1e-7, 1.0)  # AdamW
     weight_decay: float = between(0.0, 1.0)
@@ -38,6 +40,7 @@ class TrainParams:
     weight_w_fp: float = between(0.0)  # Eq. (14): the per-sample weight's own w_fp (paper 0.5)
     weight_w_fn: float = between(0.0)  # Eq. (14): the per-sample weight's own w_fn (paper 0.5)
     temperature: float = between(1e-6)  # lambda of Eq. (10), the selection softmax temperature
+    false_positives_on: Literal["closed", "path"]  # Eq. (12)'s FP term on the closed set (paper) or the plan
     max_demos: int = between(0)  # training demonstrations used per split (0: all)
     device: str  # "cpu" or "cuda"
     threads: int = between(1, 64)  # torch CPU threads
@@ -48,3 +51,4 @@ class PlannerParams:
     """Algorithm 1's low-level plan (Sec. V)."""
 
     mode: Literal["free_union", "within", "graph"]  # X in X_G ∪ R_free (paper) / within X_G / centroid graph plan
+    rcr_scale_m: float = between(1e-3)  # ablation: Psi = this x RCR's score (metres per unit of score)
