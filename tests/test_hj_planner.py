@@ -195,7 +195,7 @@ def test_cell_minimum_bound_keeps_the_pruner_exact():
     from navlab.search.lattice_search import StaticPruner
 
     rng = np.random.default_rng(3)
-    x, y, v, th = np.meshgrid(np.arange(6) * 0.5, np.arange(5) * 0.5, np.arange(4) * 0.25,
+    x, y, _v, th = np.meshgrid(np.arange(6) * 0.5, np.arange(5) * 0.5, np.arange(4) * 0.25,
                               np.arange(8) * math.pi / 4, indexing="ij")
     # smooth (most cells clear a threshold, the bound answers) plus noise (some straddle it: interpolated)
     values = (x + y + 0.3 * np.cos(th) + 0.1 * rng.normal(size=x.shape)).astype(np.float32)
