@@ -212,3 +212,27 @@ def test_cell_minimum_bound_keeps_the_pruner_exact():
         assert (pruner(samples) == exact).all()
         pruned.append(exact.sum())
     assert min(pruned) < 400 and max(pruned) > 0, pruned  # both answers exercised
+
+
+def test_returned_plans_are_chains_the_pruner_accepted():
+    """When a cell gets a better node, nodes generated from the old one must keep their own parent: a plan
+    replayed from its primitives then passes through exactly the segments the pruner accepted, and its
+    cost is the search's G. (Keeping one state per cell instead replays descendants from the new state:
+    segments never checked, plans through obstacles.)"""
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, spec.v_max, GOAL.tolerance)
+    table = primitive_table(spec)
+    rng = np.random.default_rng(7)
+    improved = 0
+    for _ in range(12):
+        start = np.array([rng.uniform(0.2, 1.0), rng.uniform(0.2, 1.8), 0.0, rng.uniform(-math.pi, math.pi)])
+        result = search(spec, ROOM.bounds, start, GOAL, h, static=obs, anytime=True, max_expansions=20000)
+        if not result.found:
+            continue
+        improved += len(result.solution_costs) > 1
+        assert result.cost == pytest.approx(result.solution_costs[-1])
+        for state, control in zip(result.states[:-1], result.controls, strict=True):
+            samples = successor_samples(spec, table, state)
+            i = int(np.flatnonzero((spec.controls == control).all(axis=1))[0])
+            assert not obs(samples[i:i + 1])[0], f"plan segment from {state.round(3)} was never accepted"
+    assert improved > 0  # ANA* improved its solution (cells re-opened) on some of these tasks

@@ -221,11 +221,16 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
     n_cells = nx * ny * nlev * nbins
-    g = np.full(n_cells, np.inf)
-    hval = np.zeros(n_cells)
-    st = np.empty((n_cells, 4))
-    parent = np.full(n_cells, -1, np.int64)
-    prim = np.full(n_cells, -1, np.int32)
+    g = np.full(n_cells, np.inf)  # the best g found per cell ...
+    best = np.full(n_cells, -1, np.int64)  # ... and the node that holds it
+    # the node pool: every inserted node keeps its own state, parent node and primitive, so a plan is the
+    # chain of states that were actually pruned and costed, even after its cell got a better node
+    cap = 1 << 14
+    st = np.empty((cap, 4))
+    parent = np.empty(cap, np.int64)
+    prim = np.empty(cap, np.int32)
+    cell = np.empty(cap, np.int64)
+    hval = np.empty(cap)
     heap_k = np.empty(1 << 14)
     heap_g = np.empty(1 << 14)
     heap_c = np.empty(1 << 14, np.int64)
@@ -251,36 +256,37 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
 
     c0 = cell_of(start[0], start[1], start[2], start[3])
     g[c0] = 0.0
-    st[c0] = start
+    best[c0] = 0
+    st[0] = start
+    parent[0], prim[0], cell[0] = -1, -1, c0
     h0 = heuristic(hk, hv, hm, hp, start[0], start[1], start[2], start[3])
-    hval[c0] = h0
+    hval[0] = h0
+    n_nodes = 1
     G = np.inf
     E = np.inf
     heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, _ana_key(G, 0.0, h0) if anytime
-                                           else h0, 0.0, c0)
+                                           else h0, 0.0, 0)
     sol_exp = np.zeros(MAX_SOLUTIONS, np.int64)
     sol_t = np.zeros(MAX_SOLUTIONS)
     sol_G = np.zeros(MAX_SOLUTIONS)
     sol_bound = np.zeros(MAX_SOLUTIONS)
-    sol_cell = np.zeros(MAX_SOLUTIONS, np.int64)
     n_sol = 0
     expansions = 0
     h_evals = 1
     p_evals = 0
     status = NO_PATH
-    goal_cell = -1
+    goal_node = -1  # the goal node
     last = n_samp - 1
     while n_heap > 0:
-        gk, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
-        g_cur = g[cur]
-        if gk != g_cur:
-            continue  # stale entry: the cell was improved since
+        g_cur, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
+        if best[cell[cur]] != cur:
+            continue  # stale entry: its cell got a better node since
         if anytime and g_cur + hval[cur] >= G:
             continue  # e <= 1: cannot improve on G
         sx, sy, sv_, sth = st[cur, 0], st[cur, 1], st[cur, 2], st[cur, 3]
         dx, dy = sx - x_goal, sy - y_goal
         if dx * dx + dy * dy <= tol2 and sv_ <= v_goal:
-            goal_cell = cur
+            goal_node = cur
             if not anytime:
                 status = FOUND
                 break
@@ -290,9 +296,9 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
             lo = np.inf
             for i in range(n_heap):
                 c = heap_c[i]
-                if heap_g[i] == g[c] and g[c] + hval[c] < G:
-                    heap_k[m], heap_g[m], heap_c[m] = _ana_key(G, g[c], hval[c]), heap_g[i], c
-                    lo = min(lo, g[c] + hval[c])
+                if best[cell[c]] == c and heap_g[i] + hval[c] < G:
+                    heap_k[m], heap_g[m], heap_c[m] = _ana_key(G, heap_g[i], hval[c]), heap_g[i], c
+                    lo = min(lo, heap_g[i] + hval[c])
                     m += 1
             n_heap = 0
             kk, gg, cc = heap_k[:m].copy(), heap_g[:m].copy(), heap_c[:m].copy()
@@ -301,15 +307,14 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
             if n_sol < MAX_SOLUTIONS:
                 sol_exp[n_sol], sol_t[n_sol], sol_G[n_sol] = expansions, _now() - t0, G
                 sol_bound[n_sol] = G / lo if m > 0 and lo > 0 else 1.0
-                sol_cell[n_sol] = cur
                 n_sol += 1
             status = FOUND
             continue
         if expansions >= max_expansions:
-            status = EXPANSION_LIMIT if goal_cell < 0 else FOUND
+            status = EXPANSION_LIMIT if goal_node < 0 else FOUND
             break
         if (expansions & 255) == 0 and _now() - t0 > time_limit:
-            status = TIME_LIMIT if goal_cell < 0 else FOUND
+            status = TIME_LIMIT if goal_node < 0 else FOUND
             break
         expansions += 1
         if anytime and G < np.inf and hval[cur] > 0.0:
@@ -360,21 +365,28 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
             h_evals += 1
             if anytime and ng + h >= G:
                 continue
+            if n_nodes == st.shape[0]:
+                st = np.concatenate((st, np.empty_like(st)))
+                parent = np.concatenate((parent, np.empty_like(parent)))
+                prim = np.concatenate((prim, np.empty_like(prim)))
+                cell = np.concatenate((cell, np.empty_like(cell)))
+                hval = np.concatenate((hval, np.empty_like(hval)))
+            node = n_nodes
+            n_nodes += 1
+            st[node, 0], st[node, 1], st[node, 2], st[node, 3] = ex, ey, ev, eth
+            parent[node], prim[node], cell[node], hval[node] = cur, p, nc, h
             g[nc] = ng
-            hval[nc] = h
-            st[nc, 0], st[nc, 1], st[nc, 2], st[nc, 3] = ex, ey, ev, eth
-            parent[nc] = cur
-            prim[nc] = p
+            best[nc] = node
             key = _ana_key(G, ng, h) if anytime else ng + h
-            heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, key, ng, nc)
-    # the returned plan: the parent chain of the (last) goal cell, as primitive indices from the start
+            heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, key, ng, node)
+    # the returned plan: the parent chain of the (last) goal node, as primitive indices from the start
     n_path = 0
-    c = goal_cell
-    while c >= 0 and c != c0:
+    c = goal_node
+    while c > 0:
         n_path += 1
         c = parent[c]
     prims = np.empty(n_path, np.int32)
-    c = goal_cell
+    c = goal_node
     for i in range(n_path - 1, -1, -1):
         prims[i] = prim[c]
         c = parent[c]
