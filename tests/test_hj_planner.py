@@ -236,3 +236,25 @@ def test_returned_plans_are_chains_the_pruner_accepted():
             i = int(np.flatnonzero((spec.controls == control).all(axis=1))[0])
             assert not obs(samples[i:i + 1])[0], f"plan segment from {state.round(3)} was never accepted"
     assert improved > 0  # ANA* improved its solution (cells re-opened) on some of these tasks
+
+
+def test_summaries_count_each_way_to_fail_and_explain_a_cost_gap():
+    from navlab.metrics.hj_paper import astar_rows, check_claims, failure_modes, summarise
+    from navlab.reach.planning import TaskResult
+
+    def task(clearance, cost, found=True):
+        return TaskResult("Dist", "OBS", "A*", (0.0, 0.0, 0.0, 0.0), (1.0, 1.0), "found" if found else "time limit",
+                          found, clearance, 10, 10, cost, cost, 0.1, 1.0)
+
+    results = {"A* w/ Dist": [task(0.1, 5.0), task(-0.2, 6.0), task(-math.inf, math.inf, found=False)],
+               "A* w/ TTR": [task(0.1, 5.0), task(0.2, 5.5), task(0.05, 4.0)]}
+    rows = summarise(results, seed=0)
+    dist, ttr = rows
+    assert (dist["success"], dist["no_plan"], dist["infeasible"]) == (1, 1, 1)
+    assert dist["infeasible_depth_m"] == pytest.approx(0.2)
+    assert (ttr["success"], ttr["no_plan"], ttr["infeasible"], ttr["infeasible_depth_m"]) == (3, 0, 0, None)
+    assert "1 without a plan, 1 failing the dense check, median 0.200 m deep" in failure_modes(rows)
+    for row in rows:
+        row["time_s"] = 0.1
+    claims = check_claims("table1_heuristics_astar", astar_rows(rows))
+    assert claims[1].startswith("same optimal cost: DOES NOT HOLD") and "duplicate detection" in claims[1]

@@ -49,12 +49,14 @@ def costmap_field(room: Room, robot_radius: float, decay: float, resolution: flo
     return sdf._replace(values=values)
 
 
-def feasible(room: Room, robot_radius: float, spec: LatticeSpec, result: SearchResult, per_step: int = 32) -> bool:
-    """The paper's check: the plan replayed densely under the dynamics keeps positive clearance."""
+def plan_clearance(room: Room, robot_radius: float, spec: LatticeSpec, result: SearchResult,
+                   per_step: int = 32) -> float:
+    """The paper's feasibility check as a number: the smallest clearance (m) of the plan replayed densely
+    under the dynamics (feasible where positive); -inf without a plan."""
     if not result.found:
-        return False
+        return -math.inf
     dense = densify(spec, result.states[0], result.controls, per_step)
-    return bool((room.signed_distance(dense[:, 0], dense[:, 1], robot_radius) > 0.0).all())
+    return float(room.signed_distance(dense[:, 0], dense[:, 1], robot_radius).min())
 
 
 @dataclass
@@ -66,13 +68,17 @@ class TaskResult:
     goal: tuple[float, float]
     status: str
     found: bool
-    feasible: bool
+    clearance: float  # plan_clearance: the densified plan's smallest clearance (m)
     expansions: int  # A*: all; ANA*: to the first solution (the paper's measure), all when none
     total_expansions: int
     cost: float
     first_cost: float
     seconds: float
     bound: float
+
+    @property
+    def feasible(self) -> bool:
+        return self.clearance > 0.0
 
     @property
     def success(self) -> bool:
@@ -134,7 +140,7 @@ class Planner:
         first = res.first_solution_expansions if anytime else None
         out = TaskResult(
             heuristic, pruner, algorithm, tuple(map(float, start)), goal.xy, res.status, res.found,
-            feasible(self.room, self.robot.radius_m, self.spec, res),
+            plan_clearance(self.room, self.robot.radius_m, self.spec, res),
             int(first if first is not None else res.expansions), res.expansions, res.cost,
             res.solution_costs[0] if res.solution_costs else res.cost, res.seconds,
             res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf))
