@@ -253,7 +253,7 @@ def test_summaries_count_each_way_to_fail_and_explain_a_cost_gap():
     assert (dist["success"], dist["no_plan"], dist["infeasible"]) == (1, 1, 1)
     assert dist["infeasible_depth_m"] == pytest.approx(0.2)
     assert (ttr["success"], ttr["no_plan"], ttr["infeasible"], ttr["infeasible_depth_m"]) == (3, 0, 0, None)
-    assert "1 without a plan, 1 failing the dense check, median 0.200 m deep" in failure_modes(rows)
+    assert "1 without a plan, 1 failing the dense check, median 200.0 mm deep" in failure_modes(rows)
     for row in rows:
         row["time_s"] = 0.1
     claims = check_claims("table1_heuristics_astar", astar_rows(rows))

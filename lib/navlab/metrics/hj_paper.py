@@ -123,7 +123,7 @@ def failure_modes(rows: list[dict]) -> str:
     """One sentence per table: how each method's failures split (no plan / plan failing the dense check)."""
     parts = []
     for r in rows:
-        depth = f", median {r['infeasible_depth_m']:.3f} m deep" if r["infeasible"] else ""
+        depth = f", median {1000 * r['infeasible_depth_m']:.1f} mm deep" if r["infeasible"] else ""
         parts.append(f"{r['method']} {r['no_plan']} without a plan, {r['infeasible']} failing the dense check{depth}")
     return "Failures: " + "; ".join(parts) + "."
 
