@@ -10,6 +10,11 @@ run when the code path does) is followed transitively, with the ``__init__`` of 
 way (importing ``navlab.a.b`` runs ``navlab/a/__init__.py``). Static, so the set does not depend on
 what else a process happened to import. The same set tells a DVC stage which paths it depends on
 (tests/test_pipeline.py).
+
+Left out: the section declarations of params.yaml (``navlab.core.params.<section>``: field names, types
+and ranges; they compute nothing). A result keys on the parameter *values* it reads, so a new field in
+one section must not invalidate every other section's results (one PACER field re-solved every HJ grid,
+~40 CPU-min). The loader (``navlab.core.params`` itself: profile resolution) stays in.
 """
 
 from __future__ import annotations
@@ -21,6 +26,8 @@ from pathlib import Path
 
 PACKAGE = "navlab"
 LIB = Path(__file__).resolve().parents[2]  # the folder that holds navlab/
+
+DECLARATIONS = "navlab.core.params."  # prefix of the modules left out (see above)
 
 _IMPORTS: dict[tuple[Path, int, int], tuple[str, ...]] = {}  # (file, mtime_ns, size) -> imported names
 
@@ -65,7 +72,8 @@ def imported_modules(*entries: str, lib: Path | None = None) -> dict[str, Path]:
     todo = list(entries)
     while todo:
         name = todo.pop()
-        if name in found or not (name == PACKAGE or name.startswith(PACKAGE + ".")):
+        navlab = name == PACKAGE or name.startswith(PACKAGE + ".")
+        if name in found or not navlab or name.startswith(DECLARATIONS):
             continue
         path = module_file(name, lib)
         if path is None:  # ``from navlab.x import some_function``: the name is not a module
