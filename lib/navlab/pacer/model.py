@@ -12,6 +12,17 @@ Two fusions, chosen in params.yaml (`pacer.model.fusion`):
 - ``film`` (feature-wise linear modulation, Perez et al., AAAI 2018) scales and shifts the bottleneck
   and every decoder stage by the context embedding; it keeps the bottleneck's spatial layout, which is
   what lets a small CPU-sized model (``default``) tie costs to where each terrain is.
+
+FiLM alone must *bind* the context to the image indirectly: the context encoder has to learn which
+terrain each patch shows and turn that into channel gains that happen to address the image encoder's
+channels for the same terrain, a binding learned terrain by terrain (it does not carry over to terrains
+never trained on, and the small models learn it only slowly). With ``match_channels`` set (the small
+profiles), a :class:`TextureMatcher` adds the binding explicitly: one texture tower, shared by the image
+and the context patches, compares every image location with every context patch, and the decoder
+receives, per location, how strongly it resembles the *preferred* patches versus the *other* ones. This
+is a function of the context by construction (swapping the halves of every pair flips its sign) and of
+appearance only, so it holds for any terrain the texture features tell apart. ``paper`` keeps the
+released code's concat-MLP fusion without it.
 """
 
 from __future__ import annotations
@@ -110,6 +121,58 @@ class FiLM(nn.Module):
         return (1 + gamma) * x + beta
 
 
+class TextureMatcher(nn.Module):
+    """Per-location preference evidence from appearance: (image, context) → (B, 2, H/s, W/s) maps.
+
+    One tower of 3×3 convolutions (ReLU, a 2×2 average pool after each stage, no batch norm so that
+    images and patches are featured alike in training and evaluation) maps the image to features at
+    stride ``s = 2 ** len(channels)`` (locally averaged over 3×3, about one patch of support) and each
+    context patch to the mean of its features; both are projected, centred on the mean of the context's
+    2n patch features (what the context's terrains share says nothing about which one a location is:
+    uncentred ReLU features all point one way, cosines near 1 whatever the terrain) and L2-normalised.
+    Every location attends over the 2n patches by cosine similarity (softmax with a learned
+    temperature); the maps are
+
+    * ``S = Σ_j a_j r_j`` with r_j = -1 for a preferred patch and +1 for the other one: about -1 where the
+      location looks like terrain the context prefers, +1 where it looks like terrain the context ranks
+      lower, near 0 for a terrain named on both sides (a Borda-like score);
+    * ``M = max_j cos``: how well the location matches any context patch at all.
+
+    Both are invariant to the order of the pairs and S changes sign when every pair is swapped.
+    """
+
+    def __init__(self, channels: tuple[int, ...], colour_channels: int = 3):
+        super().__init__()
+        layers, c = [], colour_channels
+        for width in channels:
+            layers += [nn.Conv2d(c, width, 3, padding=1), nn.ReLU(inplace=True),
+                       nn.Conv2d(width, width, 3, padding=1), nn.ReLU(inplace=True), nn.AvgPool2d(2)]
+            c = width
+        self.features = nn.Sequential(*layers)
+        self.project = nn.Conv2d(c, c, 1)
+        self.log_temperature = nn.Parameter(torch.tensor(2.3))  # e^2.3 ≈ 10: cosines 0.1 apart → e:1 weights
+        self.colour_channels = colour_channels
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        return self.project(self.features(x - 0.5))
+
+    def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        b, c = image.shape[0], self.colour_channels
+        h = context.shape[2] // 2
+        n = context.shape[1] // c
+        # (B, 3n, 2h, w) -> (B, 2n, 3, h, w): the n preferred patches, then the n others
+        patches = torch.cat([context[:, :, :h], context[:, :, h:]], dim=1).reshape(b * 2 * n, c, h, -1)
+        keys = self.embed(patches).mean(dim=(2, 3)).reshape(b, 2 * n, -1)
+        centre = keys.mean(dim=1)  # (B, d)
+        keys = F.normalize(keys - centre[:, None], dim=2)
+        feats = F.avg_pool2d(self.embed(image), 3, stride=1, padding=1, count_include_pad=False)
+        feats = F.normalize(feats - centre[:, :, None, None], dim=1)
+        cosine = torch.einsum("bkd,bdhw->bkhw", keys, feats)  # (B, 2n, H/s, W/s)
+        attention = torch.softmax(cosine * self.log_temperature.exp(), dim=1)
+        role = torch.cat([-torch.ones(n), torch.ones(n)]).to(cosine)[None, :, None, None]
+        return torch.cat([(attention * role).sum(dim=1, keepdim=True), cosine.amax(dim=1, keepdim=True)], dim=1)
+
+
 class UpBlock(nn.Module):
     """Transposed convolution ×2, concatenation with the encoder skip, conv block."""
 
@@ -143,6 +206,12 @@ class PacerNet(nn.Module):
             b = cfg.bottleneck_channels
             self.fuse = nn.Sequential(nn.Linear(b + cfg.context_dim, b + cfg.context_dim // 2),
                                       nn.Linear(b + cfg.context_dim // 2, b))
+        self.matcher = TextureMatcher(tuple(cfg.match_channels), colour_channels) if cfg.match_channels else None
+        if self.matcher is not None:  # the match maps enter the bottleneck and every decoder stage
+            self.match_in = nn.ModuleList(nn.Conv2d(2, c, 1) for c in ups)
+            # and S reaches the cost logit directly, with a learned gain: "looks like a less preferred
+            # patch" means "costs more" from the first step, and the decoder learns corrections around it
+            self.match_gain = nn.Parameter(torch.tensor(1.0))
         self.out = nn.Conv2d(widths[0], 1, 1)
 
     @property
@@ -178,11 +247,25 @@ class PacerNet(nn.Module):
         else:
             pooled = x.mean(dim=(2, 3))
             x = self.fuse(torch.cat([pooled, z], dim=1))[:, :, None, None].expand_as(x)
+        match = self.matcher(image, context) if self.matcher is not None else None
+        x = self._add_match(x, match, 0)
         for i, (block, skip) in enumerate(zip(self.up, reversed(skips))):
             x = block(x, skip)
             if self.cfg.fusion == "film":
                 x = self.film[i + 1](x, z)
-        return self.out(x)[:, 0]
+            x = self._add_match(x, match, i + 1)
+        logits = self.out(x)[:, 0]
+        if match is not None:
+            evidence = F.interpolate(match[:, :1], size=logits.shape[-2:], mode="bilinear", align_corners=False)
+            logits = logits + self.match_gain * evidence[:, 0]
+        return logits
+
+    def _add_match(self, x: torch.Tensor, match: torch.Tensor | None, stage: int) -> torch.Tensor:
+        if match is None:
+            return x
+        if match.shape[-2:] != x.shape[-2:]:
+            match = F.interpolate(match, size=x.shape[-2:], mode="bilinear", align_corners=False)
+        return x + self.match_in[stage](match)
 
     @torch.no_grad()
     def costmap(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:

@@ -101,7 +101,9 @@ def _write_log(rows: list[dict], path: Path) -> None:
 def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet:
     """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
     path = Path(path)
-    return load_network(path, lambda saved: build_model(PacerModelParams(**saved["model_config"]),
+    # models saved before ``match_channels`` existed have no texture matcher
+    return load_network(path, lambda saved: build_model(PacerModelParams(**{"match_channels": (),
+                                                                            **saved["model_config"]}),
                                                         context_pairs=saved["context_pairs"]),
                         f"pacer_{path.parent.name}", device)
 

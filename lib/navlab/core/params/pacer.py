@@ -88,6 +88,7 @@ class PacerModelParams:
     context_channels: tuple[int, ...] = between(1)  # widths of the small CNN (unused by resnet50)
     context_dim: int = between(1)  # the preference embedding
     fusion: Literal["film", "concat_mlp"]  # film: every decoder stage; concat_mlp: the released code's
+    match_channels: tuple[int, ...] = between(1)  # texture tower matching image to context patches; [] = none
 
 
 @dataclass(frozen=True)
