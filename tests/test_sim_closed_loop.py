@@ -21,7 +21,7 @@ from navlab.metrics.hj_closed_loop import (
 from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.store import save_grid
 from navlab.sim.hj_scenarios import ClosedLoop, cyclic_goals, start_state
-from navlab.sim.receding_horizon import Run, Trip, run_patrol
+from navlab.sim.receding_horizon import Observation, Run, SimSettings, Trip, run_patrol
 
 
 @pytest.fixture(scope="module")
@@ -65,6 +65,46 @@ def test_closed_loop_is_deterministic_for_a_seed(loop):
     a, b, c = (loop.face_to_face("OBS", s) for s in (3, 3, 4))
     assert np.array_equal(np.array(a.trajectory), np.array(b.trajectory))
     assert not np.array_equal(np.array(a.humans), np.array(c.humans))
+
+
+class _OnePlan:
+    """Accelerates for 2 s at the first re-plan, then answers ``later`` (None: keep the plan; empty: no plan)."""
+
+    dt = 0.5
+
+    def __init__(self, later):
+        self.later, self.calls = later, 0
+
+    def __call__(self, observation):
+        self.calls += 1
+        return np.array([[0.5, 0.0]] * 4) if self.calls == 1 else self.later
+
+
+def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brakes():
+    room = load_room("open")
+    settings = SimSettings(trip_timeout_s=1.5, deadlock_s=10.0)
+    runs = {name: run_patrol(_OnePlan(later), room.obstacle_distance, start_state((1.0, 2.7), 0.0), [(8.6, 2.7)], [],
+                             settings, np.random.default_rng(0)) for name, later in (("keep", None),
+                                                                                      ("brake", np.zeros((0, 2))))}
+    speed = {name: run.trajectory[-1][3] for name, run in runs.items()}
+    assert speed["keep"] == pytest.approx(0.75, abs=0.05)  # 1.5 s at 0.5 m/s² on the first plan's clock
+    assert speed["brake"] < 0.1
+    assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
+
+
+def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
+    """The Dense Room's return trip from rest needs ~30,000-55,000 expansions for a first plan: with a budget
+    of 20,000 per period and ``rest_periods`` 4 the second and third periods continue the first's search."""
+    room = load_room("dense_room")
+    policy = loop.policy(room, "Dist", "OBS")
+    policy.max_expansions, policy.rest_periods = 20000, 4
+    at_b = np.array([6.6, 2.8, 0.0, math.pi])
+    plans = [policy(Observation(k / 12, at_b, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
+    found = [p is not None and len(p) > 0 for p in plans]
+    assert not found[0] and any(found), "a plan needs more than one period's budget and comes within four"
+    fresh = dataclasses.replace(policy, rest_periods=1)  # without: every period starts afresh and finds nothing
+    assert not any(len(fresh(Observation(k / 12, at_b, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2)))))
+                   for k in range(4))
 
 
 def test_cyclic_goals_return_to_the_start():

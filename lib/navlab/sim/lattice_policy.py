@@ -17,10 +17,40 @@ Human handling, the three rows of Tables VI and IX:
 
 A plan that cannot start (the observed state already pruned) or is not found within the budget is an
 empty command list: the simulator then brakes.
+
+Between re-plans the anytime search is not thrown away blindly (``reuse``): when a re-plan stops at the
+expansion limit without a plan, the policy re-checks the next ``reuse_horizon_s`` of the plan the car is
+executing (the braking time; re-checked whole, the open-loop rest of a 15 s plan replayed from a pose
+2 cm off drifts into an obstacle's clearance somewhere, and the Dense Room's return trip kept no plan) — replayed from the newly observed pose under the dynamics,
+``samples_per_step`` points per step — and, if it passes,
+answers ``None``: the car keeps executing it (a plan proven infeasible, or one the re-check rejects, still
+makes the car brake). The re-check is the human pruner (the humans have moved) and, for the static map,
+collision: clearance > robot radius (the OBS test; with ``"obs"`` the humans' discs included). Not the
+static BRT again: the map has not changed, the plan passed the BRT when it was made, and an optimal plan
+runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time.
+
+A start inside the static BRT's pruned set (value <= margin) but clear of the obstacles (clearance >
+robot radius) is planned from, not given up on: the search then prunes at the start's own BRT value
+(just below it) instead of the margin, so it looks for plans that get no closer to the obstacles than
+the car already is. Without this the car, once braked (straight, ω = 0) to a stop within the margin of a
+wall, never plans again: the 2 cm pose noise puts every observed start at or inside the margin (0.05 m).
+The same holds for a car still moving inside the set: braking straight (the fallback) is no escape there,
+while a plan that keeps the BRT value at least where it is may be (restricting this to a car at rest made
+TTR + BRT hit a wall on the Dense Room's return trip, measured).
+
+A robot *at rest* that has no plan waits for one: when a search from rest stops at the expansion limit
+without a plan, the next re-plan (still at rest, same goal) continues it, with the expansions already
+spent plus one more period's budget, for up to ``rest_periods`` periods (then it starts afresh). This is
+the anytime search running on while the car stands still, instead of being thrown away every 83 ms: in
+the Dense Room the first plan from rest needs up to ~55,000 expansions (the obstacle-free TTR/Dist
+heuristics fill the dead-end pocket between the walls first), ~7 periods' budget. The continued search is
+re-run from the newly observed (noisy) pose, which differs from the first only by the pose noise; its
+measured wall time is therefore that of the whole search so far, not of one period's share.
 """
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -29,7 +59,7 @@ import numpy as np
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
 from navlab.reach.pruners import FIParams, clearance_field, human_pruner
-from navlab.search.dubins_lattice import LatticeSpec, primitive_table
+from navlab.search.dubins_lattice import LatticeSpec, integrate, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, search
 
@@ -50,13 +80,21 @@ class LatticePolicy:
     human_radius: float = 0.3
     fi: FIParams = field(default_factory=FIParams)
     anytime: bool = False
+    rest_periods: int = 1  # a search from rest may continue over this many re-plan periods (1: never)
+    reuse: bool = False  # keep the current plan when a re-plan runs out of budget and the plan re-checks safe
+    robot_radius: float = 0.285  # m, the kept plan's collision re-check (the QBot's 570 mm base)
+    reuse_horizon_s: float = 2.0  # s of the kept plan re-checked: the braking time from v_max = 1 m/s at 0.5 m/s²
     expansions: list[int] = field(default_factory=list)
     _table: np.ndarray = field(init=False, repr=False)
     _heuristics: dict = field(init=False, repr=False, default_factory=dict)
     _clearance: GridField | None = field(init=False, repr=False, default=None)
     _points: tuple[np.ndarray, np.ndarray] | None = field(init=False, repr=False, default=None)
+    _carried: tuple[tuple, int] | None = field(init=False, repr=False, default=None)  # (goal, expansions spent)
+    _current: tuple[tuple, float, np.ndarray] | None = field(init=False, repr=False, default=None)  # goal, t, plan
 
     def __post_init__(self):
+        if not (isinstance(self.rest_periods, int) and self.rest_periods >= 1):
+            raise ValueError(f"rest_periods must be an integer >= 1, got {self.rest_periods!r}")
         if self.human_mode not in HUMAN_MODES:
             raise ValueError(f"human_mode {self.human_mode!r}: use one of {', '.join(HUMAN_MODES)}")
         if self.human_mode in ("fi", "fs") and self.human_brt is None:
@@ -90,16 +128,69 @@ class LatticePolicy:
         humans = np.asarray(observation.humans, dtype=float).reshape(-1, 2)
         static = self._static_for(humans)
         (x0, x1), (y0, y1) = self.room.bounds
-        if not (x0 <= state[0] < x1 and y0 <= state[1] < y1) or static.values(state[None])[0] <= 0.0:
+        if not (x0 <= state[0] < x1 and y0 <= state[1] < y1):
+            self._carried = self._current = None
             return np.zeros((0, 2))
+        start_value = float(static.values(state[None])[0])
+        if start_value <= 0.0:
+            clear = float(self.room.signed_distance(state[0], state[1], self.robot_radius)) > 0.0
+            if static.name != "BRT" or not clear:
+                self._carried = self._current = None
+                return np.zeros((0, 2))
+            static = copy.copy(static)  # prune at the start's own value: plans that get no closer than the car is
+            object.__setattr__(static, "par", np.array([static.par[0] + start_value - 1e-3, static.par[1]]))
         goal = tuple(observation.goal)
         if goal not in self._heuristics:
             self._heuristics[goal] = self.heuristic_for(goal)
         human = NO_HUMAN
         if self.human_mode in ("fi", "fs") and len(humans):
             human = human_pruner(self.human_brt, humans, self.human_mode, self.fi)
+        at_rest = state[2] == 0.0
+        spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
+        budget = spent + self.max_expansions
         result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
-                        self._heuristics[goal], static=static, human=human, max_expansions=self.max_expansions,
+                        self._heuristics[goal], static=static, human=human, max_expansions=budget,
                         anytime=self.anytime, table=self._table)
-        self.expansions.append(result.expansions)
-        return result.controls if result.found else np.zeros((0, 2))
+        self.expansions.append(result.expansions - spent)  # this period's share
+        go_on = (at_rest and not result.found and result.status == "expansion limit"
+                 and budget < self.rest_periods * self.max_expansions)
+        self._carried = (goal, budget) if go_on else None
+        if result.found:
+            self._current = (goal, float(observation.time), result.controls)
+            return result.controls
+        if self.reuse and result.status == "expansion limit" and self._still_safe(observation, static, human):
+            return None
+        self._current = None
+        return np.zeros((0, 2))
+
+    def _still_safe(self, observation, static: StaticPruner, human) -> bool:
+        """The next ``reuse_horizon_s`` of the current plan (same goal), replayed from the observed pose, is
+        collision-free and passes the human pruner."""
+        if self._current is None or self._current[0] != tuple(observation.goal):
+            return False
+        _, issued, plan = self._current
+        dt, n = self.spec.dt, self.spec.samples_per_step
+        elapsed = float(observation.time) - issued
+        k = int((elapsed + 1e-9) // dt)
+        if k >= len(plan):
+            return False
+        state = np.asarray(observation.robot, dtype=float)
+        parents, segments = [], []
+        end = min(len(plan), k + 1 + int(np.ceil(self.reuse_horizon_s / dt)))
+        for i in range(k, end):
+            duration = dt - (elapsed - k * dt) if i == k else dt
+            if duration <= 1e-9:
+                continue
+            seg = integrate(state, float(plan[i, 0]), float(plan[i, 1]), duration, n, self.spec.v_max)
+            parents.append(state)
+            segments.append(seg)
+            state = seg[-1]
+        if not segments:
+            return False
+        parents, segments = np.array(parents), np.array(segments)
+        if static.name == "OBS":  # clearance (with "obs": the humans' discs too)
+            if static(segments).any():
+                return False
+        elif (self.room.signed_distance(segments[..., 0], segments[..., 1], self.robot_radius) <= 0.0).any():
+            return False
+        return not (human.kind != NO_HUMAN.kind and human(parents, segments).any())

@@ -5,7 +5,10 @@ The paper's robot re-plans at 12 Hz and its controller executes the first comman
 whenever a re-plan is due the planner gets a (noisy) observation and returns a sequence of (a, ω)
 commands, each held for the planner's step ``dt``; the car integrates the command in force at every
 tick under the paper's Eq. (19) (``search.dubins_lattice.integrate``). A planner that finds no plan
-returns an empty sequence and the car brakes with ``a_min`` and ω = 0 (an emergency stop).
+returns an empty sequence and the car brakes with ``a_min`` and ω = 0 (an emergency stop); a planner that
+returns ``None`` found no new plan but vouches for the one the car is executing (re-checked, see
+``sim.lattice_policy``): the car goes on with it, in step with the time it was issued, as the paper's
+controller keeps executing the last action sequence it received.
 
 A trip from one goal to the next ends as the paper scores it (Sec. VIII-A): success when the car is
 within the goal tolerance; failure on a collision with a static obstacle, a *deadlock* (no progress of
@@ -45,7 +48,8 @@ class Observation:
 class Planner(Protocol):
     dt: float  # s each returned command is held
 
-    def __call__(self, observation: Observation) -> np.ndarray: ...  # (K, 2) (a, ω); empty: no plan
+    def __call__(self, observation: Observation) -> np.ndarray | None: ...  # (K, 2) (a, ω); empty: no plan
+    # (brake); None: no new plan, keep executing the current one
 
 
 class Human(Protocol):
@@ -90,7 +94,8 @@ class Trip:
     time_s: float = 0.0
     human_contacts: int = 0
     replans: int = 0
-    failed_replans: int = 0
+    failed_replans: int = 0  # re-plans without a new plan (the car braked or kept its plan)
+    kept_plans: int = 0  # of those, the ones where the car kept executing its previous plan
 
     @property
     def success(self) -> bool:
@@ -155,14 +160,19 @@ def run_patrol(
                 pose = state.copy()
                 pose[:2] += rng.normal(0.0, settings.pose_noise_m, 2)
                 began = time.perf_counter()
-                commands = np.asarray(planner(Observation(t, pose, goal, seen, velocities)), dtype=float)
+                new = planner(Observation(t, pose, goal, seen, velocities))
                 run.plan_seconds.append(time.perf_counter() - began)
                 trip.replans += 1
-                if len(commands) == 0:
+                if new is None:  # keep executing the current plan (and its clock)
                     trip.failed_replans += 1
-                elif keep_plans:
-                    run.plans.append((t, commands.copy()))
-                plan_time, next_replan = t, next_replan + 1.0 / settings.replan_hz
+                    trip.kept_plans += 1
+                else:
+                    commands, plan_time = np.asarray(new, dtype=float), t
+                    if len(commands) == 0:
+                        trip.failed_replans += 1
+                    elif keep_plans:
+                        run.plans.append((t, commands.copy()))
+                next_replan += 1.0 / settings.replan_hz
             k = int((t - plan_time + 1e-9) // planner.dt)
             a, omega = (commands[k] if k < len(commands) else (settings.a_min, 0.0))
             state = integrate(state, float(a), float(omega), tick, 4, settings.v_max)[-1]
