@@ -36,13 +36,6 @@ from navlab.sim.receding_horizon import Run, SimSettings, run_patrol
 HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX: row -> LatticePolicy mode
 ROOM_COMBOS = (("Dist", "OBS"), ("Dist", "BRT"), ("TTR", "OBS"), ("TTR", "BRT"))  # Table VIII rows
 ROOM_NAMES = {"long_hallway": "Long Hallway", "dense_room": "Dense Room"}
-# The re-plan loop's two continuity rules (sim.lattice_policy): a search from rest runs on for up to this many
-# periods while the car waits (1 s at 12 Hz), and a re-plan out of budget keeps the car's plan if it re-checks
-# safe. Constants here, not params.yaml fields: a params-schema edit changes the code fingerprint of every HJ
-# grid and BRT margin (core.params is imported by reach.precompute), i.e. a ~40 min rebuild; to be moved into
-# hj.dynamic.closed_loop with the next grid rebuild.
-REST_PERIODS = 12
-REUSE_PLAN = True
 
 
 def start_state(xy, heading_deg: float) -> np.ndarray:
@@ -108,7 +101,8 @@ class ClosedLoop:
                              human_mode, self._human_brt if human_mode in ("fi", "fs") else None,
                              self.params.hj.grids.human.radius_m, self.fi,
                              anytime=self.d.closed_loop.algorithm == "ANA*",
-                             rest_periods=REST_PERIODS, reuse=REUSE_PLAN, robot_radius=self.robot.radius_m)
+                             rest_periods=self.d.closed_loop.rest_periods,
+                             reuse=self.d.closed_loop.reuse_plan, robot_radius=self.robot.radius_m)
 
     def _rng(self, run: int) -> np.random.Generator:
         return np.random.default_rng(self.d.seed + run)
