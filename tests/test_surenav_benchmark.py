@@ -147,6 +147,11 @@ def test_fig4_claims_hold_on_the_papers_pattern_and_fail_otherwise():
     risk["D* Lite"] = 19.0
     claims = paper.fig4_claims(_fig4(spl, risk, length, sr={**dict.fromkeys(spl, 1.0), "COA*": 0.9}))
     assert [c.holds for c in claims] == [False, False, False, False, True, True, False]
+    assert all(c.why for c in claims[2:4]) and "Expert" not in claims[2].why  # no reference row: no comparison
+    expert = [{"method": "Expert (reference)", "city": c, "sr": 0.95, "spl": 0.9, "total_risk": 25.0,
+               "path_length_m": 150.0} for c in paper.CITIES]
+    claims = paper.fig4_claims(_fig4(spl, risk, length, sr={**dict.fromkeys(spl, 1.0), "COA*": 0.9}) + expert)
+    assert "milan 25.0 vs 19.0" in claims[2].line() and "milan 0.95 vs 1.00" in claims[6].line()
     no_surenav = [r for r in _fig4(spl, risk, length) if r["method"] != "SuReNav"]
     claims = paper.fig4_claims(no_surenav)
     assert [c.holds for c in claims[1:4]] == [None, None, None] and claims[5].holds is None
