@@ -92,6 +92,22 @@ def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brake
     assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
 
 
+def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():
+    """A human walking into a braked car is no pruner's miss; the car driving its plan into one is."""
+    from navlab.metrics.hj_closed_loop import contacts_on_plan
+    from navlab.sim.humans import StraightWalker
+
+    room = load_room("open")
+    settings = SimSettings(trip_timeout_s=3.0, deadlock_s=10.0)
+    counts = {}
+    for name, later in (("plan", np.array([[0.5, 0.0]] * 8)), ("brake", np.zeros((0, 2)))):
+        human = StraightWalker((2.6, 2.7), (0.0, 2.7))  # head-on, 1.6 m ahead of the car
+        run = run_patrol(_OnePlan(later), room.obstacle_distance, start_state((1.0, 2.7), 0.0), [(8.6, 2.7)], [human],
+                         settings, np.random.default_rng(0))
+        counts[name] = (run.trips[0].human_contacts, contacts_on_plan([run]))
+    assert counts["plan"] == (1, 1) and counts["brake"] == (1, 0)
+
+
 def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
     """The Dense Room's return trip from rest needs ~30,000-55,000 expansions for a first plan: with a budget
     of 20,000 per period and ``rest_periods`` 4 the second and third periods continue the first's search."""

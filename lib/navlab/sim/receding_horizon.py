@@ -96,6 +96,7 @@ class Trip:
     replans: int = 0
     failed_replans: int = 0  # re-plans without a new plan (the car braked or kept its plan)
     kept_plans: int = 0  # of those, the ones where the car kept executing its previous plan
+    contacts_braking: int = 0  # human contacts that began while the car had no plan in force (braking or stopped)
 
     @property
     def success(self) -> bool:
@@ -183,7 +184,9 @@ def run_patrol(
             run.humans.append(np.array([h.position for h in humans], dtype=float).reshape(-1, 2))
             gaps = [math.hypot(*(h.position - state[:2])) for h in humans]
             now_touching = bool(gaps) and min(gaps) < settings.robot_radius + settings.human_radius
-            trip.human_contacts += int(now_touching and not touching)
+            if now_touching and not touching:
+                trip.human_contacts += 1
+                trip.contacts_braking += int(k >= len(commands))
             touching = now_touching
             dist = math.hypot(goal[0] - state[0], goal[1] - state[1])
             if dist < best_dist - settings.deadlock_progress_m:
