@@ -159,6 +159,10 @@ def check_claims(table_id: str, rows: list[dict]) -> list[str]:
         return "" if not known else ("human contacts that began on a plan the pruner had accepted (not braking "
                                      "without one): " + ", ".join(f"{r['method']} {r['contacts_on_plan']}" for r in known))
 
+    def causes(rows_by_method):
+        return "failed trips by cause (wall hits / deadlocks / timeouts): " + ", ".join(
+            f"{m} {r.get('wall_hits')}/{r.get('deadlocks')}/{r.get('timeouts')}" for m, r in rows_by_method.items())
+
     def t(v):
         return "Failed" if v is None else f"{v:.1f} s"
 
@@ -189,14 +193,14 @@ def check_claims(table_id: str, rows: list[dict]) -> list[str]:
         claim("in the Dense Room only TTR + BRT succeeds on every trip",
               best["success"] == best["trips"] and all(r["success"] < r["trips"] for r in dense.values()),
               f"TTR + BRT {best['success']}/{best['trips']}, "
-              + ", ".join(f"{m} {r['success']}/{r['trips']}" for m, r in dense.items()) + "; paper 6/6 vs 0, 1, 0")
+              + ", ".join(f"{m} {r['success']}/{r['trips']}" for m, r in dense.items()) + "; paper 6/6 vs 0, 1, 0",
+              causes({"TTR + BRT": best, **dense}))
         hall = {m: by[(m, "Long Hallway")] for m in ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")}
         claim("in the Long Hallway TTR succeeds more often than Dist under both pruners",
               hall["TTR + OBS"]["success"] > hall["Dist + OBS"]["success"]
               and hall["TTR + BRT"]["success"] > hall["Dist + BRT"]["success"],
               ", ".join(f"{m} {r['success']}/{r['trips']}" for m, r in hall.items()) + "; paper 2, 2, 9, 9 of 9",
-              "failed trips by cause (wall hits / deadlocks / timeouts): " + ", ".join(
-                  f"{m} {r.get('wall_hits')}/{r.get('deadlocks')}/{r.get('timeouts')}" for m, r in hall.items()))
+              causes(hall))
     elif table_id == "table9_humans":
         for n in sorted({r["humans"] for r in rows}):
             by = {r["method"]: r for r in rows if r["humans"] == n}
