@@ -20,6 +20,7 @@ from navlab.metrics.hj_closed_loop import (
 )
 from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.store import save_grid
+from navlab.search.lattice_search import NO_HUMAN
 from navlab.sim.hj_scenarios import ClosedLoop, cyclic_goals, start_state
 from navlab.sim.receding_horizon import Observation, Run, SimSettings, Trip, run_patrol
 
@@ -90,6 +91,21 @@ def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brake
     assert speed["keep"] == pytest.approx(0.75, abs=0.05)  # 1.5 s at 0.5 m/s² on the first plan's clock
     assert speed["brake"] < 0.1
     assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
+
+
+def test_a_kept_plan_must_leave_the_car_able_to_brake_clear_of_the_walls(loop):
+    """At 1 m/s, 1.3 m from the east wall, a 1 m-radius arc stays clear of it (max x 9.0 m), but braking
+    straight from half a second into the arc does not (9.36 m > 9.6 - 0.285): the plan is not kept. Moved
+    1 m further from the wall, it is."""
+    room = load_room("open")
+    policy = loop.policy(room, "Dist", "OBS")
+    arc = np.array([[0.0, 1.0]] * 4)
+    kept = {}
+    for x in (8.0, 7.0):
+        policy._current = ((1.0, 2.7), 0.0, arc)
+        seen = Observation(0.0, np.array([x, 1.0, 1.0, 0.0]), (1.0, 2.7), np.zeros((0, 2)), np.zeros((0, 2)))
+        kept[x] = policy._still_safe(seen, policy.static, NO_HUMAN)
+    assert kept == {8.0: False, 7.0: True}
 
 
 def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():

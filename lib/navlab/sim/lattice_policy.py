@@ -165,7 +165,10 @@ class LatticePolicy:
 
     def _still_safe(self, observation, static: StaticPruner, human) -> bool:
         """The next ``reuse_horizon_s`` of the current plan (same goal), replayed from the observed pose, is
-        collision-free and passes the human pruner."""
+        collision-free and passes the human pruner, and the simulator's fallback stays collision-free:
+        braking straight (the lattice's lowest acceleration, ω = 0) from any point of the plan's current
+        step, where the next re-plan may find no plan. Without that, a car kept on plans at 1 m/s towards a
+        wall braked too late once the re-check failed (a Dense Room wall hit, measured)."""
         if self._current is None or self._current[0] != tuple(observation.goal):
             return False
         _, issued, plan = self._current
@@ -188,6 +191,11 @@ class LatticePolicy:
         if not segments:
             return False
         parents, segments = np.array(parents), np.array(segments)
+        brake = min(self.spec.accelerations)
+        stops = [integrate(s, brake, 0.0, s[2] / -brake, max(1, int(np.ceil(s[2] / -brake / 0.05))), self.spec.v_max)
+                 for s in segments[0] if s[2] > 0.0]
+        if stops and (self.room.signed_distance(*np.concatenate(stops)[:, :2].T, self.robot_radius) <= 0.0).any():
+            return False
         if static.name == "OBS":  # clearance (with "obs": the humans' discs too)
             if static(segments).any():
                 return False
