@@ -34,12 +34,12 @@ from navlab.search.lattice_fields import (
     GridField,
     cell_min,
     field_meta,
+    first_unsafe,
     heuristic,
     heuristic_batch,
     human_prune_batch,
     human_prunes,
     interp2,
-    static_kept,
     static_prune_batch,
     static_value_batch,
 )
@@ -235,7 +235,8 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
     heap_g = np.empty(1 << 14)
     heap_c = np.empty(1 << 14, np.int64)
     n_heap = 0
-    samples = np.empty((n_samp, 4))
+    segment = np.empty((1, n_samp, 4))  # one segment, indexed as first_unsafe reads it
+    samples = segment[0]
     bin_w = 2.0 * math.pi / nbins
     v_top = goal[4]  # the lattice's v_max
     t0 = _now()
@@ -350,14 +351,9 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
                 samples[j, 3] = sth + table[lev, p, j, 3]
             samples[last, 0], samples[last, 1], samples[last, 2], samples[last, 3] = ex, ey, ev, eth
             if sk != S_NONE:
-                bad = False
-                for j in range(n_samp):
-                    p_evals += 1
-                    if not static_kept(sk, sv, sb, sm, sp, samples[j, 0], samples[j, 1], samples[j, 2],
-                                       samples[j, 3]):
-                        bad = True
-                        break
-                if bad:
+                bad = first_unsafe(sk, sv, sb, sm, sp, segment, 0, n_samp)
+                p_evals += bad + 1 if bad >= 0 else n_samp
+                if bad >= 0:
                     continue
             if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, samples, n_samp):
                 continue
