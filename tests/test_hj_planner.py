@@ -258,3 +258,13 @@ def test_summaries_count_each_way_to_fail_and_explain_a_cost_gap():
         row["time_s"] = 0.1
     claims = check_claims("table1_heuristics_astar", astar_rows(rows))
     assert claims[1].startswith("same optimal cost: DOES NOT HOLD") and "duplicate detection" in claims[1]
+
+
+def test_heuristic_excess_is_zero_for_dist_and_measured_for_ttr(grids, smoke_params):
+    """Dist is admissible on the lattice (never above Dijkstra's cost); the TTR's excess is a finite number."""
+    planner = Planner(smoke_params, grids, "simulation", costs=False, margin=0.05)
+    tasks = [(s, (4.0, 1.0)) for s in heading_tasks((1.0, 1.0), (0.0, 90.0, 180.0))]  # Table I's task
+    dist = planner.heuristic_excess("Dist", tasks)
+    assert dist["starts"] == 3 and dist["over"] == 0 and dist["max_excess_s"] <= 0.0
+    ttr = planner.heuristic_excess("TTR", tasks)
+    assert ttr["starts"] == 3 and math.isfinite(ttr["max_excess_s"])

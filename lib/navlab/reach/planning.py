@@ -24,7 +24,7 @@ from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
 from navlab.reach.pruners import clearance_field, obs_pruner, static_brt_pruner
 from navlab.search.dubins_lattice import LatticeSpec, densify, primitive_table
 from navlab.search.lattice_fields import GridField
-from navlab.search.lattice_search import NO_STATIC, Costmap, Goal, SearchResult, search
+from navlab.search.lattice_search import NO_STATIC, Costmap, Goal, SearchResult, search, zero_heuristic
 
 HEURISTICS = ("Dist", "map Dist", "TTR", "map TTR")
 PRUNERS = ("none", "OBS", "BRT")
@@ -145,6 +145,26 @@ class Planner:
             res.solution_costs[0] if res.solution_costs else res.cost, res.seconds,
             res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf))
         return out, res
+
+
+    def heuristic_excess(self, name: str, tasks: list[tuple], pruner: str = "OBS") -> dict:
+        """By how much heuristic ``name`` exceeds the lattice's true cost-to-go at each task's start
+        (Dijkstra: h = 0, the same pruner, costmap and A* goal). The TTR is the continuous optimum, so it
+        can exceed the lattice's cost only through its grid's interpolation error (issue 11 asks that it be
+        measured): {starts Dijkstra solved, starts where h is above the cost, the largest excess in s}."""
+        tol = self.p.goal_tolerance_astar_m
+        over, worst, solved = 0, 0.0, 0
+        for start, goal_xy in tasks:
+            goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
+            res = search(self.spec, self.room.bounds, start, goal, zero_heuristic(), static=self.pruner(pruner),
+                         costmap=self.costmap, table=self.table, max_expansions=self.p.astar_max_expansions)
+            if not res.found:
+                continue
+            solved += 1
+            excess = float(self.heuristic(name, goal_xy, tol)(np.asarray(start, float)[None])[0]) - res.cost
+            over += excess > 1e-9
+            worst = max(worst, excess)
+        return {"starts": solved, "over": over, "max_excess_s": worst}
 
 
 def heading_tasks(start_xy, headings_deg) -> list[np.ndarray]:
