@@ -19,6 +19,7 @@ Nav2 costmap term; w = 0 gives time, the paper's "state cost 1.0"), so time heur
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 from dataclasses import dataclass, field
@@ -82,6 +83,13 @@ class StaticPruner:
     def values(self, states: np.ndarray) -> np.ndarray:
         """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
         return static_value_batch(self.kind, self.field, self.par, _states(states))
+
+    def with_threshold(self, threshold: float) -> StaticPruner:
+        """The same pruner pruning at ``threshold`` instead of ``par[0]``; it shares the cell minima (they do
+        not depend on the threshold, and re-deriving them costs a pass over the whole grid per call)."""
+        twin = copy.copy(self)
+        object.__setattr__(twin, "par", np.array([threshold, self.par[1]]))
+        return twin
 
 
 @dataclass(frozen=True)

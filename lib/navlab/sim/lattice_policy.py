@@ -27,7 +27,9 @@ answers ``None``: the car keeps executing it (a plan proven infeasible, or one t
 makes the car brake). The re-check is the human pruner (the humans have moved) and, for the static map,
 collision: clearance > robot radius (the OBS test; with ``"obs"`` the humans' discs included). Not the
 static BRT again: the map has not changed, the plan passed the BRT when it was made, and an optimal plan
-runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time.
+runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time. A kept
+plan must also leave the simulator's fallback, braking straight, clear of the walls from any point of its
+current step.
 
 A start inside the static BRT's pruned set (value <= margin) but clear of the obstacles (clearance >
 robot radius) is planned from, not given up on: the search then prunes at the start's own BRT value
@@ -50,7 +52,6 @@ measured wall time is therefore that of the whole search so far, not of one peri
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -137,8 +138,8 @@ class LatticePolicy:
             if static.name != "BRT" or not clear:
                 self._carried = self._current = None
                 return np.zeros((0, 2))
-            static = copy.copy(static)  # prune at the start's own value: plans that get no closer than the car is
-            object.__setattr__(static, "par", np.array([static.par[0] + start_value - 1e-3, static.par[1]]))
+            # prune at the start's own value: plans that get no closer than the car is
+            static = static.with_threshold(static.par[0] + start_value - 1e-3)
         goal = tuple(observation.goal)
         if goal not in self._heuristics:
             self._heuristics[goal] = self.heuristic_for(goal)
