@@ -22,7 +22,14 @@ from navlab.reach.pruners import (
     static_brt_pruner,
     static_prune_reference,
 )
-from navlab.search.dubins_lattice import LatticeSpec, primitive_table, snap, successor_samples
+from navlab.search.dubins_lattice import (
+    LatticeSpec,
+    densify,
+    first_step,
+    primitive_table,
+    snap,
+    successor_samples,
+)
 from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Goal, search, zero_heuristic
 
@@ -167,8 +174,8 @@ def test_bad_input_stops_with_one_clear_message(grids, smoke_params):
         planner.run(np.array([2.5, 2.5, 0.0, 0.0]), (8.0, 2.0), "Dist", "OBS", "A*")  # inside the desk
     with pytest.raises(ValueError, match="goal .* outside the map"):
         planner.run(np.array([1.0, 1.0, 0.0, 0.0]), (12.0, 2.0), "Dist", "OBS", "A*")
-    with pytest.raises(ValueError, match="not a lattice speed level"):
-        planner.run(np.array([1.0, 1.0, 0.33, 0.0]), (4.0, 1.0), "Dist", "OBS", "A*")
+    with pytest.raises(ValueError, match="speed 1.5 m/s is outside the lattice"):
+        planner.run(np.array([1.0, 1.0, 1.5, 0.0]), (4.0, 1.0), "Dist", "OBS", "A*")
     g = smoke_params.hj.grids
     stale = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=dataclasses.replace(
         g, ttr=dataclasses.replace(g.ttr, horizon_s=g.ttr.horizon_s + 1))))
@@ -186,6 +193,25 @@ def test_compiled_astar_matches_the_plain_python_reference():
         cost, expansions = astar_reference(spec, ROOM.bounds, start, GOAL.xy, GOAL.tolerance, GOAL.max_speed, h, obs)
         assert ours.cost == pytest.approx(cost)
         assert abs(ours.expansions - expansions) <= 0.05 * expansions + 5  # heap ties may break differently
+
+
+def test_a_plan_from_an_off_level_speed_is_the_trajectory_the_car_drives():
+    """A car's speed is rarely a lattice level. The first step's accelerations absorb the gap, so the
+    commands executed unmodified from the exact start pass through the states the search checked (planned
+    from the nearest level instead, a 0.33 m/s car misses them by 4 cm after one step); from a level speed
+    the first step is the level's own table row."""
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    table = primitive_table(spec)
+    rows, controls = first_step(spec, 0.25)
+    assert np.array_equal(rows, table[1]) and np.array_equal(controls, spec.controls)
+    obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, spec.v_max, GOAL.tolerance)
+    for v in (0.1, 0.2, 0.33, 0.45):
+        start = np.array([0.4, 1.0, v, 0.3])
+        result = search(spec, ROOM.bounds, start, GOAL, h, static=obs)
+        assert result.found and abs(result.controls[0, 0] - spec.controls[:, 0]).min() > 1e-3
+        driven = densify(spec, start, result.controls, per_step=12)[12::12]
+        assert np.abs(driven - result.states[1:]).max() < 1e-3
+        assert not obs(densify(spec, start, result.controls, per_step=12)[None, 1:]).any()
 
 
 def test_cell_minimum_bound_keeps_the_pruner_exact():

@@ -93,19 +93,65 @@ def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brake
     assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
 
 
+def test_the_car_drives_the_trajectory_its_plan_was_checked_on():
+    """Commands switch at 0.5 s steps while the control ticks every 0.04 s: the tick that straddles a step
+    boundary is split there, so the driven states at the step ends are the plan's own (holding a command
+    to the end of its tick instead turns the car 0.04 rad off its plan within 3 s of this zig-zag)."""
+    from navlab.search.dubins_lattice import LatticeSpec, densify
+
+    plan = np.array([[0.5, 1.0], [0.5, -1.0], [0.0, 1.0], [-0.25, -1.0], [0.25, 0.5], [-0.5, -0.5]])
+
+    class Zigzag(_OnePlan):
+        def __call__(self, observation):
+            self.calls += 1
+            return plan if self.calls == 1 else None
+
+    room, start = load_room("open"), start_state((2.0, 2.7), 0.0)
+    run = run_patrol(Zigzag(None), room.obstacle_distance, start, [(8.6, 2.7)], [], SimSettings(trip_timeout_s=3.0),
+                     np.random.default_rng(0))
+    spec = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 1.0, 9, 4, 0.2, 24)
+    planned = densify(spec, start, plan, per_step=50)[50::50]
+    driven = {round(row[0], 6): row[1:] for row in run.trajectory}
+    for k in (2, 4, 6):
+        assert np.abs(driven[round(0.5 * k, 6)] - planned[k - 1]).max() < 1e-3
+
+
 def test_a_kept_plan_must_leave_the_car_able_to_brake_clear_of_the_walls(loop):
     """At 1 m/s, 1.3 m from the east wall, a 1 m-radius arc stays clear of it (max x 9.0 m), but braking
-    straight from half a second into the arc does not (9.36 m > 9.6 - 0.285): the plan is not kept. Moved
-    1 m further from the wall, it is."""
+    straight from half a second into the arc does not (9.36 m > 9.6 - 0.285), while braking now would: the
+    plan is not kept. Moved 1 m further from the wall, it is. At 8.4 m braking now hits the wall too
+    (9.4 m), and a braking arc that stays clear is kept: refusing it would only brake into the wall."""
     room = load_room("open")
     policy = loop.policy(room, "Dist", "OBS")
-    arc = np.array([[0.0, 1.0]] * 4)
+    arc, braking_arc = np.array([[0.0, 1.0]] * 4), np.array([[-0.5, 1.0]] * 4)
     kept = {}
-    for x in (8.0, 7.0):
-        policy._current = ((1.0, 2.7), 0.0, arc)
+    for x, plan in ((8.0, arc), (7.0, arc), (8.4, braking_arc)):
+        policy._current = ((1.0, 2.7), 0.0, plan)
         seen = Observation(0.0, np.array([x, 1.0, 1.0, 0.0]), (1.0, 2.7), np.zeros((0, 2)), np.zeros((0, 2)))
         kept[x] = policy._still_safe(seen, policy.static, NO_HUMAN)
-    assert kept == {8.0: False, 7.0: True}
+    assert kept == {8.0: False, 7.0: True, 8.4: True}
+
+
+def test_a_new_plan_replaces_a_safe_one_only_if_it_arrives_sooner(loop):
+    """Noise makes successive anytime searches return different plans of equal cost; the car keeps the one
+    in force unless the new one saves ``switch_gain_s``. Driven 0.12 s along its own plan, the car keeps
+    it; a plan in force that would take 5 s longer is replaced. Pose noise widens the static pruners by
+    ``pose_allowance_sigmas`` stds."""
+    room, goal = load_room("open"), (4.0, 2.7)
+    policy = loop.policy(room, "Dist", "OBS")
+    first = policy(Observation(0.0, np.array([1.0, 2.7, 0.0, 0.0]), goal, np.zeros((0, 2)), np.zeros((0, 2))))
+    assert first is not None and len(first) > 0
+    from navlab.search.dubins_lattice import integrate
+
+    moved = integrate(np.array([1.0, 2.7, 0.0, 0.0]), *first[0], 0.12, 12, 1.0)[-1]
+    seen = Observation(0.12, moved, goal, np.zeros((0, 2)), np.zeros((0, 2)))
+    assert policy(seen) is None
+    slow = np.vstack([first, np.zeros((10, 2))])  # the same plan then standing still for 5 s
+    policy._current = (goal, 0.0, slow)
+    again = policy(seen)
+    assert again is not None and len(again) > 0
+    widened = loop.policy(room, "Dist", "OBS", pose_noise_m=0.02).static.par[0]
+    assert widened == pytest.approx(policy.static.par[0] + loop.d.closed_loop.pose_allowance_sigmas * 0.02)
 
 
 def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from navlab.search.dubins_lattice import LatticeSpec, primitive_table
+from navlab.search.dubins_lattice import LatticeSpec, first_step, primitive_table
 from navlab.search.lattice_fields import (
     H_ZERO,
     S_NONE,
@@ -224,7 +224,7 @@ def _ana_key(G, g, h):
 
 
 @numba.njit(cache=True, error_model="numpy")  # no zero-division checks (and their error paths) in the loop
-def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sb, sp, uk, uf, up, humans,
+def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sb, sp, uk, uf, up, humans,
             use_cost, cf, cost_w, max_expansions, time_limit):
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
@@ -328,15 +328,16 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
         expansions += 1
         if anytime and G < np.inf and hval[cur] > 0.0:
             E = min(E, (G - g_cur) / hval[cur])
-        lev = round(sv_ / v_top * (nlev - 1))
+        # the start's own first-step primitives (its exact speed, ``first_step``), the level's table after
+        rows = root if cur == 0 else table[round(sv_ / v_top * (nlev - 1))]
         cth, sth_ = math.cos(sth), math.sin(sth)
         for p in range(n_prim):
             # the successor first (most are no improvement on their cell: no segment, no look-up for them)
-            r0, r1 = table[lev, p, last, 0], table[lev, p, last, 1]
+            r0, r1 = rows[p, last, 0], rows[p, last, 1]
             ex = sx + cth * r0 - sth_ * r1
             ey = sy + sth_ * r0 + cth * r1
-            ev = table[lev, p, last, 2]
-            eth = sth + table[lev, p, last, 3]
+            ev = rows[p, last, 2]
+            eth = sth + rows[p, last, 3]
             if snap:
                 ex = (math.floor(ex / cell_m) + 0.5) * cell_m
                 ey = (math.floor(ey / cell_m) + 0.5) * cell_m
@@ -352,11 +353,11 @@ def _search(anytime, start, goal, table, dt, cell_m, dims, snap, hk, hf, hp, sk,
             if ng >= g[nc]:
                 continue
             for j in range(last):
-                r0, r1 = table[lev, p, j, 0], table[lev, p, j, 1]
+                r0, r1 = rows[p, j, 0], rows[p, j, 1]
                 samples[j, 0] = sx + cth * r0 - sth_ * r1
                 samples[j, 1] = sy + sth_ * r0 + cth * r1
-                samples[j, 2] = table[lev, p, j, 2]
-                samples[j, 3] = sth + table[lev, p, j, 3]
+                samples[j, 2] = rows[p, j, 2]
+                samples[j, 3] = sth + rows[p, j, 3]
             samples[last, 0], samples[last, 1], samples[last, 2], samples[last, 3] = ex, ey, ev, eth
             if sk != S_NONE:
                 bad = first_unsafe(sk, sv, sb, sm, sp, segment, 0, n_samp)
@@ -407,14 +408,15 @@ def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
 
 
 def replay(spec: LatticeSpec, table: np.ndarray, start: np.ndarray, prims: np.ndarray,
-           costmap: Costmap = Costmap()) -> tuple[np.ndarray, float]:
-    """States and cost of following primitive indices from ``start`` (the same arithmetic as the search)."""
+           costmap: Costmap = Costmap(), root: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """States and cost of following primitive indices from ``start`` (the same arithmetic as the search;
+    ``root``: the first step's rows from an off-level start speed, ``dubins_lattice.first_step``)."""
     states = [np.asarray(start, np.float64)]
     cost = 0.0
     bin_w = 2 * math.pi / spec.heading_bins
-    for p in prims:
+    for i, p in enumerate(prims):
         x, y, v, th = states[-1]
-        row = table[spec.level(round(v / spec.dv) * spec.dv), p, -1]
+        row = root[p, -1] if i == 0 and root is not None else table[spec.level(round(v / spec.dv) * spec.dv), p, -1]
         c, s = math.cos(th), math.sin(th)
         end = np.array([x + c * row[0] - s * row[1], y + s * row[0] + c * row[1], row[2], th + row[3]])
         if spec.snap_states:
@@ -434,13 +436,15 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
            table: np.ndarray | None = None) -> SearchResult:
     """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)).
 
+    The start's speed need not be a level: its first step then uses ``first_step``'s primitives (the
+    returned first control carries their adjusted acceleration), every later step the level table.
+
     ``anytime=False``: A* until the goal is popped or ``max_expansions``. ``anytime=True``: ANA* until
     OPEN is empty (the last solution is optimal), ``max_expansions`` or ``time_limit_s``.
     """
     start = np.asarray(start, np.float64)
     if start.shape != (4,) or not np.isfinite(start).all():
         raise ValueError(f"start must be a finite (x, y, v, θ), got {start!r}")
-    spec.level(start[2])
     dims = _dims(spec, bounds)
     (_, x1), (_, y1) = bounds
     for name, (x, y) in (("start", start[:2]), ("goal", goal.xy)):
@@ -457,18 +461,22 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
 
         start = snap(spec, start)
     table = primitive_table(spec) if table is None else table
+    root, root_controls = first_step(spec, float(start[2]))
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
-    out = _search(anytime, start, goal_arr, table, spec.dt, spec.cell_m, dims, spec.snap_states,
+    out = _search(anytime, start, goal_arr, table, root, spec.dt, spec.cell_m, dims, spec.snap_states,
                   heuristic_.kind, heuristic_.field, heuristic_.par, static.kind, static.field, static.lower, static.par,
                   human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64),
                   costmap.field is not None, cf, float(costmap.weight), int(max_expansions), float(time_limit_s))
     status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
     found = status == FOUND
-    states, cost = replay(spec, table, start, prims, costmap) if found else (start[None], math.inf)
+    states, cost = replay(spec, table, start, prims, costmap, root) if found else (start[None], math.inf)
+    controls = spec.controls[prims] if found else np.zeros((0, 2))
+    if len(controls):
+        controls[0] = root_controls[prims[0]]
     return SearchResult(
         status=STATUS[status], cost=cost, expansions=int(expansions),
-        controls=spec.controls[prims] if found else np.zeros((0, 2)), states=states, seconds=float(secs),
+        controls=controls, states=states, seconds=float(secs),
         heuristic_evals=int(h_evals), pruner_evals=int(p_evals),
         solution_expansions=[int(e) for e in s_exp], solution_seconds=[float(t) for t in s_t],
         solution_costs=[float(c) for c in s_g], solution_bounds=[float(b) for b in s_b])

@@ -72,6 +72,19 @@ class ClosedLoop:
                            self.robot.accel_min, c.goal_tolerance_m, c.trip_timeout_s, c.deadlock_s,
                            c.deadlock_progress_m, pose_noise_m, c.human_noise_m)
 
+    def rules(self) -> str:
+        """The loop's rules beyond the paper's text (sim.lattice_policy, sim.receding_horizon), for the reports."""
+        c = self.d.closed_loop
+        keep = (f"a re-plan out of budget keeps the car's current plan if its next 2 s re-check collision-free (and pass "
+                f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner"
+                if c.reuse_plan else "a re-plan out of budget brakes the car")
+        return (f"Between re-plans (sim.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
+                f"for up to {c.rest_periods} period(s) while it waits; a start inside the static BRT's margin but clear "
+                f"of obstacles is planned from with the pruning threshold at its own value. Plans start from the "
+                f"observed speed exactly (the first step absorbs the gap to a lattice level) and the car executes "
+                f"their commands unmodified, so it drives the trajectory the pruners checked from the observed pose; "
+                f"under pose noise both static pruners prune {c.pose_allowance_sigmas:g} noise stds further out.")
+
     def heuristic_for(self, name: str):
         if name == "Dist":
             tol = self.params.hj.planner.goal_tolerance_astar_m
@@ -92,17 +105,24 @@ class ClosedLoop:
             return self._planners[room.name].pruner("BRT")
         raise ValueError(f"static pruner {name!r}: use 'OBS' or 'BRT'")
 
-    def policy(self, room: Room, heuristic: str, static: str, human_mode: str = "none") -> LatticePolicy:
+    def policy(self, room: Room, heuristic: str, static: str, human_mode: str = "none",
+               pose_noise_m: float = 0.0) -> LatticePolicy:
+        """The receding-horizon planner; its static pruner prunes ``pose_allowance_sigmas`` pose-noise stds
+        further out (the BRT's value is 1-Lipschitz in position, OBS's clearance too), because plans are made
+        from the observed pose and driven from the true one."""
         if human_mode in ("fi", "fs") and self._human_brt is None:
             self._human_brt = load_human_brt(self.params, self.artifacts_dir)
         p = self.params.hj.planner
-        return LatticePolicy(self.spec, room, self.heuristic_for(heuristic), self.static_pruner(room, static),
+        pruner = self.static_pruner(room, static)
+        pruner = pruner.with_threshold(pruner.par[0] + self.d.closed_loop.pose_allowance_sigmas * pose_noise_m)
+        return LatticePolicy(self.spec, room, self.heuristic_for(heuristic), pruner,
                              p.goal_tolerance_astar_m, p.goal_max_speed, self.d.closed_loop.max_expansions,
                              human_mode, self._human_brt if human_mode in ("fi", "fs") else None,
                              self.params.hj.grids.human.radius_m, self.fi,
                              anytime=self.d.closed_loop.algorithm == "ANA*",
                              rest_periods=self.d.closed_loop.rest_periods,
-                             reuse=self.d.closed_loop.reuse_plan, robot_radius=self.robot.radius_m)
+                             reuse=self.d.closed_loop.reuse_plan,
+                             switch_gain_s=self.d.closed_loop.plan_switch_gain_s, robot_radius=self.robot.radius_m)
 
     def _rng(self, run: int) -> np.random.Generator:
         return np.random.default_rng(self.d.seed + run)
@@ -148,7 +168,7 @@ class ClosedLoop:
             raise ValueError(f"hj.dynamic.table8: goal {missing[0]!r} is not a goal of room {room_name} "
                              f"(its goals: {', '.join(room.goals)})")
         points = [room.goals[g] for g in route]
-        return run_patrol(self.policy(room, heuristic, static), room.obstacle_distance,
+        return run_patrol(self.policy(room, heuristic, static, pose_noise_m=t.pose_noise_m), room.obstacle_distance,
                           start_state(points[0], t.start_heading_deg), cyclic_goals(points, t.cycles), [],
                           self.settings(t.pose_noise_m), self._rng(run), keep_plans=keep_plans)
 
@@ -159,7 +179,7 @@ class ClosedLoop:
             raise ValueError(f"{n_humans} humans: hj.dynamic.table9.human_pois lists {len(t.human_pois)}")
         room = load_room(t.room)
         humans = [PatrolHuman(tuple(map(tuple, pois)), speed) for pois in t.human_pois[:n_humans]]
-        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row], t.pose_noise_m),
                           room.obstacle_distance, start_state(t.robot_goals[0], t.robot_start_heading_deg),
                           cyclic_goals(t.robot_goals, t.cycles), humans, self.settings(t.pose_noise_m),
                           self._rng(run), keep_plans=keep_plans)

@@ -5,8 +5,10 @@ expansion budget and returns the plan's (a, ω) commands; the simulator executes
 With ``anytime`` the search is ANA* (the paper's real-robot planner, Sec. VIII): greedy until a first
 plan, then improving it until the budget is spent, so a budget far below what optimal A* needs over a
 long trip still gives a plan; without, A* (the plan is optimal or there is none).
-The observed speed is put on the nearest lattice speed level (the lattice starts from levels only;
-the commanded accelerations then act on the true speed, as on the robot).
+The search starts from the observed speed itself (``dubins_lattice.first_step``: the first step's
+accelerations absorb the gap to the nearest speed level), so the commands the car executes unmodified
+drive the states the pruners checked. Planned from the nearest level instead, the car drifted off its
+plans by up to 6 cm/s and grazed a Dense Room wall (measured).
 
 Human handling, the three rows of Tables VI and IX:
 
@@ -30,6 +32,12 @@ static BRT again: the map has not changed, the plan passed the BRT when it was m
 runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time. A kept
 plan must also leave the simulator's fallback, braking straight, clear of the walls from any point of its
 current step.
+
+The same re-check keeps the car on its plan when a re-plan finds one that arrives no sooner (by less than
+``switch_gain_s``): with 2 cm of pose noise, successive anytime searches return different plans of equal
+cost, and a car switching between them at 12 Hz dithered in the Dense Room (turning on the spot between
+plans that leave in different directions) until its trip deadlocked (measured). A plan that arrives
+sooner, or a current plan that no longer re-checks safe, is replaced as before.
 
 A start inside the static BRT's pruned set (value <= margin) but clear of the obstacles (clearance >
 robot radius) is planned from, not given up on: the search then prunes at the start's own BRT value
@@ -84,6 +92,7 @@ class LatticePolicy:
     rest_periods: int = 1  # a search from rest may continue over this many re-plan periods (1: never)
     reuse: bool = False  # keep the current plan when a re-plan runs out of budget and the plan re-checks safe
     robot_radius: float = 0.285  # m, the kept plan's collision re-check (the QBot's 570 mm base)
+    switch_gain_s: float = 0.0  # with ``reuse``: a new plan replaces a still-safe one only if it arrives this much sooner
     reuse_horizon_s: float = 2.0  # s of the kept plan re-checked: the braking time from v_max = 1 m/s at 0.5 m/s²
     expansions: list[int] = field(default_factory=list)
     _table: np.ndarray = field(init=False, repr=False)
@@ -125,7 +134,6 @@ class LatticePolicy:
 
     def __call__(self, observation) -> np.ndarray:
         state = np.asarray(observation.robot, dtype=float).copy()
-        state[2] = np.clip(np.round(state[2] / self.spec.dv), 0, self.spec.speed_levels - 1) * self.spec.dv
         humans = np.asarray(observation.humans, dtype=float).reshape(-1, 2)
         static = self._static_for(humans)
         (x0, x1), (y0, y1) = self.room.bounds
@@ -157,6 +165,9 @@ class LatticePolicy:
                  and budget < self.rest_periods * self.max_expansions)
         self._carried = (goal, budget) if go_on else None
         if result.found:
+            if (self.reuse and self._remaining_s(observation) <= result.cost + self.switch_gain_s
+                    and self._still_safe(observation, static, human)):
+                return None  # the plan in force arrives no later: keep it
             self._current = (goal, float(observation.time), result.controls)
             return result.controls
         if self.reuse and result.status == "expansion limit" and self._still_safe(observation, static, human):
@@ -164,12 +175,29 @@ class LatticePolicy:
         self._current = None
         return np.zeros((0, 2))
 
+    def _remaining_s(self, observation) -> float:
+        """Time left on the plan in force for this goal (inf without one)."""
+        if self._current is None or self._current[0] != tuple(observation.goal):
+            return np.inf
+        _, issued, plan = self._current
+        return len(plan) * self.spec.dt - (float(observation.time) - issued)
+
+    def _brakes_clear(self, states: np.ndarray) -> bool:
+        """Braking straight (the lattice's lowest acceleration, ω = 0) to a stop from each of ``states`` stays
+        clear of the walls."""
+        brake = min(self.spec.accelerations)
+        stops = [integrate(s, brake, 0.0, s[2] / -brake, max(1, int(np.ceil(s[2] / -brake / 0.05))), self.spec.v_max)
+                 for s in states if s[2] > 0.0]
+        return not stops or bool((self.room.signed_distance(*np.concatenate(stops)[:, :2].T, self.robot_radius) > 0.0).all())
+
     def _still_safe(self, observation, static: StaticPruner, human) -> bool:
         """The next ``reuse_horizon_s`` of the current plan (same goal), replayed from the observed pose, is
         collision-free and passes the human pruner, and the simulator's fallback stays collision-free:
         braking straight (the lattice's lowest acceleration, ω = 0) from any point of the plan's current
         step, where the next re-plan may find no plan. Without that, a car kept on plans at 1 m/s towards a
-        wall braked too late once the re-check failed (a Dense Room wall hit, measured)."""
+        wall braked too late once the re-check failed (a Dense Room wall hit, measured). Where braking now
+        would not stop clear either, the collision-free plan is kept: refusing it only brakes into the wall
+        (a Long Hallway wall hit, measured)."""
         if self._current is None or self._current[0] != tuple(observation.goal):
             return False
         _, issued, plan = self._current
@@ -192,11 +220,8 @@ class LatticePolicy:
         if not segments:
             return False
         parents, segments = np.array(parents), np.array(segments)
-        brake = min(self.spec.accelerations)
-        stops = [integrate(s, brake, 0.0, s[2] / -brake, max(1, int(np.ceil(s[2] / -brake / 0.05))), self.spec.v_max)
-                 for s in segments[0] if s[2] > 0.0]
-        if stops and (self.room.signed_distance(*np.concatenate(stops)[:, :2].T, self.robot_radius) <= 0.0).any():
-            return False
+        if not self._brakes_clear(segments[0]) and self._brakes_clear(np.asarray(observation.robot, float)[None]):
+            return False  # braking now is the escape the plan would give up
         if static.name == "OBS":  # clearance (with "obs": the humans' discs too)
             if static(segments).any():
                 return False

@@ -3,8 +3,9 @@
 The paper's robot re-plans at 12 Hz and its controller executes the first commands of each plan at
 25 Hz, unmodified. This module does the same in simulated time: the clock ticks at the control rate;
 whenever a re-plan is due the planner gets a (noisy) observation and returns a sequence of (a, ω)
-commands, each held for the planner's step ``dt``; the car integrates the command in force at every
-tick under the paper's Eq. (19) (``search.dubins_lattice.integrate``). A planner that finds no plan
+commands, each held for exactly the planner's step ``dt`` (a tick that straddles a step boundary is
+split there); the car integrates them under the paper's Eq. (19) (``search.dubins_lattice.integrate``),
+so from the observed state it drives the very trajectory the planner checked. A planner that finds no plan
 returns an empty sequence and the car brakes with ``a_min`` and ω = 0 (an emergency stop); a planner that
 returns ``None`` found no new plan but vouches for the one the car is executing (re-checked, see
 ``sim.lattice_policy``): the car goes on with it, in step with the time it was issued, as the paper's
@@ -120,6 +121,21 @@ class Run:
         return int(sum(t.human_contacts for t in self.trips) + sum(t.outcome == "collision" for t in self.trips))
 
 
+def _drive(state: np.ndarray, commands: np.ndarray, elapsed: float, tick: float, dt: float,
+           settings: SimSettings) -> np.ndarray:
+    """The car's state one control tick on: each command held for exactly its ``dt`` of the plan (a tick
+    that straddles a step boundary is split there, as the planner integrated it), braking (``a_min``,
+    ω = 0) once the plan has run out."""
+    end = elapsed + tick
+    while elapsed < end - 1e-12:
+        k = int((elapsed + 1e-9) // dt)
+        a, omega = commands[k] if k < len(commands) else (settings.a_min, 0.0)
+        h = min(end, (k + 1) * dt) - elapsed if k < len(commands) else end - elapsed
+        state = integrate(state, float(a), float(omega), h, max(1, round(4 * h / tick)), settings.v_max)[-1]
+        elapsed += h
+    return state
+
+
 def run_patrol(
     planner: Planner,
     obstacle_distance: Callable[[np.ndarray, np.ndarray], np.ndarray],
@@ -175,8 +191,7 @@ def run_patrol(
                         run.plans.append((t, commands.copy()))
                 next_replan += 1.0 / settings.replan_hz
             k = int((t - plan_time + 1e-9) // planner.dt)
-            a, omega = (commands[k] if k < len(commands) else (settings.a_min, 0.0))
-            state = integrate(state, float(a), float(omega), tick, 4, settings.v_max)[-1]
+            state = _drive(state, commands, t - plan_time, tick, planner.dt, settings)
             t += tick
             for h in humans:
                 h.step(tick, state[:2], state[2])
