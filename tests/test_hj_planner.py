@@ -139,7 +139,7 @@ def test_compiled_pruners_match_numpy_references_and_fi_contains_fs(grids, smoke
     brt = load_static_brt(smoke_params, grids, "simulation")
     human = load_human_brt(smoke_params, grids)
     fi = FIParams()
-    fs_count = 0
+    fs_count = moved = 0
     for _ in range(30):
         s = np.array([rng.uniform(0.3, 9.3), rng.uniform(0.3, 5.1), rng.choice([0.0, 0.25, 0.5]),
                       rng.uniform(-math.pi, math.pi)])
@@ -153,7 +153,16 @@ def test_compiled_pruners_match_numpy_references_and_fi_contains_fs(grids, smoke
         assert (fi_mask == human_prune_reference(human, humans, "fi", fi, parents, samples)).all()
         assert (fi_mask | ~fs).all()  # FS is FI's limiting case: FI prunes everything FS prunes
         fs_count += fs.sum()
-    assert fs_count > 0
+        # humans predicted along their observed velocities to each sample's time (held after 1.5 s)
+        velocities, t0 = rng.normal(0, 0.6, size=(2, 2)), rng.uniform(0, 2.0, len(samples))
+        durations = np.full(len(samples), spec.dt)
+        for kind in ("fs", "fi"):
+            predicted = human_pruner(human, humans, kind, fi, velocities, prediction_s=1.5)(parents, samples, t0,
+                                                                                           durations)
+            assert (predicted == human_prune_reference(human, humans, kind, fi, parents, samples, velocities, 1.5, t0,
+                                                       durations)).all()
+            moved += (predicted != (fs if kind == "fs" else fi_mask)).sum()
+    assert fs_count > 0 and moved > 0  # the prediction changes decisions
 
 
 def test_plans_with_the_brt_pruner_pass_the_densified_check(grids, smoke_params):

@@ -60,6 +60,34 @@ def test_human_stream_respawns_at_the_start():
     assert h.spawned == 2 and h.position[0] < 1.0
 
 
+def test_a_stream_waits_to_spawn_while_the_robot_is_at_its_start():
+    h = HumanStream((0.0, 0.0), (0.2, 0.0), clear_m=1.0)
+    for _ in range(20):
+        h.step(0.04, np.array([0.5, 0.0]), robot_speed=0.0)  # the robot stands 0.5 m from the start
+    assert h.spawned == 1 and np.allclose(h.position, [0.2, 0.0]) and np.allclose(h.velocity, 0.0)
+    h.step(0.04, np.array([1.5, 0.0]), robot_speed=0.0)
+    assert h.spawned == 2 and np.allclose(h.position, [0.0, 0.0])
+
+
+def test_human_tracks_estimate_velocity_through_noise_and_restart_on_a_jump():
+    """Over 0.5 s, 5 cm of position noise leaves ~0.14 m/s of velocity error (a two-point difference at
+    12 Hz: ~0.85 m/s); a human reappearing 4.6 m away starts a new track instead of a 9 m/s estimate."""
+    from navlab.sim.receding_horizon import HumanTracks
+
+    rng, tracks, errors = np.random.default_rng(0), HumanTracks(0.5, 0.8), []
+    for k in range(120):
+        t = k / 12
+        seen = np.array([[4.8, 5.0 - 0.8 * t]]) + rng.normal(0, 0.05, (1, 2))
+        v = tracks.update(t, seen)
+        if k >= 6:
+            errors.append(np.hypot(*(v[0] - [0.0, -0.8])))
+    assert np.sqrt(np.mean(np.square(errors))) < 0.25
+    v = tracks.update(120 / 12, np.array([[4.8, 5.0]]))  # the stream's next human, at the start again
+    assert np.allclose(v, 0.0)
+    v = tracks.update(121 / 12, np.array([[4.8, 5.0 - 0.8 / 12]]))
+    assert np.allclose(v, [[0.0, -0.8]])
+
+
 def test_robot_alone_reaches_each_goal_and_wall_contact_fails_the_trip():
     settings = SimSettings()
     run = run_patrol(PursuitPlanner(), open_space, np.array([0.0, 0.0, 0.0, 0.0]),

@@ -62,14 +62,27 @@ def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:
                         np.array([margin, lookup.unsafe_value]), "BRT")
 
 
-def human_pruner(lookup: HumanBRTLookup, humans, kind: str = "fi", fi: FIParams = FIParams()) -> HumanPruner:
+def human_pruner(lookup: HumanBRTLookup, humans, kind: str = "fi", fi: FIParams = FIParams(),
+                 velocities=None, prediction_s: float = 0.0) -> HumanPruner:
+    """FS or FI human-robot BRT pruner for the observed ``humans`` (H, 2).
+
+    With ``velocities`` (H, 2) and ``prediction_s`` > 0 a node is checked against each human where it
+    walks by the node's time at its observed velocity (held after ``prediction_s``): the BRT's worst case
+    covers the human's departures from that line. Frozen humans (the default) let a plan cross just
+    ahead of a walking human, which the BRT at its *old* position calls safe (Zig-Zag contacts, measured).
+    """
     if kind not in ("fs", "fi"):
         raise ValueError(f"human pruner kind {kind!r}: use 'fs' (feasible set) or 'fi' (forward invariant)")
+    if not prediction_s >= 0:
+        raise ValueError(f"human prediction_s must be >= 0 s, got {prediction_s}")
     humans = np.asarray(humans, np.float64).reshape(-1, 2)
+    velocities = np.zeros_like(humans) if velocities is None else np.asarray(velocities, np.float64).reshape(-1, 2)
+    if velocities.shape != humans.shape:
+        raise ValueError(f"{len(velocities)} human velocities for {len(humans)} humans: give one (vx, vy) per human")
     par = np.array([lookup.collision_radius, lookup.closing, fi.margin, fi.dt, fi.gamma_min, fi.gamma_max,
-                    fi.k_theta, fi.w_theta, fi.w_dist, fi.d_threshold])
+                    fi.k_theta, fi.w_theta, fi.w_dist, fi.d_threshold, prediction_s])
     return HumanPruner(U_FI if kind == "fi" else U_FS, grid_field(lookup.stored.values, lookup.grid), par,
-                       humans, f"{kind.upper()}-BRT")
+                       np.hstack([humans, velocities]), f"{kind.upper()}-BRT")
 
 
 def static_prune_reference(lookup: StaticBRTLookup, margin: float, samples: np.ndarray) -> np.ndarray:
@@ -88,15 +101,24 @@ def adaptive_gamma_reference(fi: FIParams, collision_radius: float, robot: np.nd
 
 
 def human_prune_reference(lookup: HumanBRTLookup, humans, kind: str, fi: FIParams, parents: np.ndarray,
-                          samples: np.ndarray) -> np.ndarray:
+                          samples: np.ndarray, velocities=None, prediction_s: float = 0.0, t0=None,
+                          durations=None) -> np.ndarray:
     """numpy twin of the compiled human pruner: parents (N, 4), samples (N, S, 4) -> (N,) True = pruned."""
     n, s, _ = samples.shape
+    humans = np.asarray(humans, float).reshape(-1, 2)
+    velocities = np.zeros_like(humans) if velocities is None else np.asarray(velocities, float).reshape(-1, 2)
+    t0 = np.zeros(n) if t0 is None else np.asarray(t0, float)
+    durations = np.zeros(n) if durations is None else np.asarray(durations, float)
+    times = np.minimum(t0[:, None] + np.arange(1, s + 1)[None] * durations[:, None] / s, prediction_s)  # (N, S)
     out = np.zeros(n, bool)
-    for hxy in np.asarray(humans, float).reshape(-1, 2):
-        values = lookup(samples.reshape(-1, 4), np.broadcast_to(hxy, (n * s, 2))).reshape(n, s)
+    for hxy, hv in zip(humans, velocities, strict=True):
+        at = hxy[None, None] + times[..., None] * hv[None, None]  # (N, S, 2)
+        values = lookup(samples.reshape(-1, 4), at.reshape(-1, 2)).reshape(n, s)
         out |= (values < fi.margin).any(axis=1)
         if kind == "fi":
-            v1, v0 = values[:, -1], lookup(parents, np.broadcast_to(hxy, (n, 2)))
-            gamma = adaptive_gamma_reference(fi, lookup.collision_radius, samples[:, -1], hxy)
+            v1 = values[:, -1]
+            v0 = lookup(parents, hxy[None] + np.minimum(t0, prediction_s)[:, None] * hv[None])
+            gamma = np.array([adaptive_gamma_reference(fi, lookup.collision_radius, samples[i, -1:], at[i, -1])[0]
+                              for i in range(n)])
             out |= (v1 - v0) / fi.dt < -gamma * (v1 - fi.margin)
     return out

@@ -266,7 +266,8 @@ def first_unsafe(kind, fv, fmin, m, par, samples, i, n):
 def human_value(fv, m, par, x, y, v, th, hx, hy):
     """Human-robot BRT value for a robot state and a human position (reach.lookup.HumanBRTLookup).
 
-    par: [collision_radius, closing_distance (speed sum × horizon), m, Δt, γ_min, γ_max, k_θ, w_θ, w_d, d_th].
+    par: [collision_radius, closing_distance (speed sum × horizon), m, Δt, γ_min, γ_max, k_θ, w_θ, w_d, d_th,
+    prediction horizon (human_prunes)].
     """
     c, s = math.cos(th), math.sin(th)
     rx, ry = hx - x, hy - y
@@ -290,19 +291,28 @@ def adaptive_gamma(par, x, y, th, hx, hy):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def human_prunes(kind, fv, m, par, humans, x0, y0, v0, th0, samples, n):
+def human_prunes(kind, fv, m, par, humans, x0, y0, v0, th0, t0, duration, samples, n):
     """True when any of the ``n`` segment samples (last = the successor) from the parent (x0, y0, v0, θ0)
-    violates a human pruner."""
-    margin, dt = par[2], par[3]
+    violates a human pruner.
+
+    humans: (H, 4) observed x, y, vx, vy. The parent is ``t0`` s after the observation and sample i at
+    t0 + (i + 1)·duration/n; each is checked against the human where it walks by then at its observed
+    velocity, the prediction held after ``par[10]`` s (0: the humans frozen where they were seen)."""
+    margin, dt, horizon = par[2], par[3], par[10]
     for h in range(humans.shape[0]):
-        hx, hy = humans[h, 0], humans[h, 1]
         for i in range(n):
+            t = min(t0 + (i + 1) * duration / n, horizon)
+            hx, hy = humans[h, 0] + humans[h, 2] * t, humans[h, 1] + humans[h, 3] * t
             if human_value(fv, m, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < margin:
                 return True
         if kind == U_FI:
             x, y, v, th = samples[n - 1, 0], samples[n - 1, 1], samples[n - 1, 2], samples[n - 1, 3]
+            t = min(t0 + duration, horizon)
+            hx, hy = humans[h, 0] + humans[h, 2] * t, humans[h, 1] + humans[h, 3] * t
             val1 = human_value(fv, m, par, x, y, v, th, hx, hy)
-            val0 = human_value(fv, m, par, x0, y0, v0, th0, hx, hy)
+            t = min(t0, horizon)
+            val0 = human_value(fv, m, par, x0, y0, v0, th0, humans[h, 0] + humans[h, 2] * t,
+                               humans[h, 1] + humans[h, 3] * t)
             gamma = adaptive_gamma(par, x, y, th, hx, hy)
             if (val1 - val0) / dt < -gamma * (val1 - margin):
                 return True
@@ -338,13 +348,14 @@ def static_value_batch(kind, f, par, states):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def human_prune_batch(kind, f, par, humans, parents, samples):
-    """parents (N, 4), samples (N, S, 4): True for each segment a human pruner drops."""
+def human_prune_batch(kind, f, par, humans, parents, samples, t0, durations):
+    """parents (N, 4), samples (N, S, 4), their times t0 (N,) and durations (N,): True for each segment a
+    human pruner drops."""
     fv, m = field_meta(f)
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
         out[i] = human_prunes(kind, fv, m, par, humans, parents[i, 0], parents[i, 1], parents[i, 2],
-                              parents[i, 3], samples[i], samples.shape[1])
+                              parents[i, 3], t0[i], durations[i], samples[i], samples.shape[1])
     return out
 
 

@@ -97,13 +97,19 @@ class HumanPruner:
     kind: int
     field: GridField
     par: np.ndarray  # see lattice_fields.human_value
-    humans: np.ndarray  # (H, 2) human positions, fixed during one search (prediction-free)
+    humans: np.ndarray  # (H, 4) observed x, y, vx, vy (lattice_fields.human_prunes predicts with them)
     name: str = ""
 
-    def __call__(self, parents: np.ndarray, samples: np.ndarray) -> np.ndarray:
-        """parents (N, 4), segment samples (N, S, 4) -> (N,) True where a human makes the step unsafe."""
+    def __call__(self, parents: np.ndarray, samples: np.ndarray, t0: np.ndarray | None = None,
+                 durations: np.ndarray | None = None) -> np.ndarray:
+        """parents (N, 4), segment samples (N, S, 4) -> (N,) True where a human makes the step unsafe.
+        ``t0``/``durations`` (N,): each parent's time after the observation and its segment's length (default
+        0: the humans where they were seen)."""
+        n = len(parents)
+        t0 = np.zeros(n) if t0 is None else np.asarray(t0, np.float64)
+        durations = np.zeros(n) if durations is None else np.asarray(durations, np.float64)
         return human_prune_batch(self.kind, self.field, self.par, np.ascontiguousarray(self.humans, np.float64),
-                                 _states(parents), _segments(samples))
+                                 _states(parents), _segments(samples), t0, durations)
 
 
 def _states(states) -> np.ndarray:
@@ -121,7 +127,7 @@ def _segments(samples) -> np.ndarray:
 
 
 NO_STATIC = StaticPruner(S_NONE, GridField.empty(2), np.zeros(2), "none")
-NO_HUMAN = HumanPruner(U_NONE, GridField.empty(3), np.zeros(10), np.zeros((0, 2)), "none")
+NO_HUMAN = HumanPruner(U_NONE, GridField.empty(3), np.zeros(11), np.zeros((0, 4)), "none")
 
 
 @dataclass(frozen=True)
@@ -239,6 +245,7 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
     prim = np.empty(cap, np.int32)
     cell = np.empty(cap, np.int64)
     hval = np.empty(cap)
+    tn = np.empty(cap)  # the node's time after the start (steps × dt; the human pruner predicts to it)
     heap_k = np.empty(1 << 14)
     heap_g = np.empty(1 << 14)
     heap_c = np.empty(1 << 14, np.int64)
@@ -270,6 +277,7 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
     parent[0], prim[0], cell[0] = -1, -1, c0
     h0 = heuristic(hk, hv, hm, hp, start[0], start[1], start[2], start[3])
     hval[0] = h0
+    tn[0] = 0.0
     n_nodes = 1
     G = np.inf
     E = np.inf
@@ -364,7 +372,7 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
-            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, samples, n_samp):
+            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, tn[cur], dt, samples, n_samp):
                 continue
             h = heuristic(hk, hv, hm, hp, ex, ey, ev, eth)
             h_evals += 1
@@ -376,10 +384,12 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
                 prim = np.concatenate((prim, np.empty_like(prim)))
                 cell = np.concatenate((cell, np.empty_like(cell)))
                 hval = np.concatenate((hval, np.empty_like(hval)))
+                tn = np.concatenate((tn, np.empty_like(tn)))
             node = n_nodes
             n_nodes += 1
             st[node, 0], st[node, 1], st[node, 2], st[node, 3] = ex, ey, ev, eth
             parent[node], prim[node], cell[node], hval[node] = cur, p, nc, h
+            tn[node] = tn[cur] + dt
             g[nc] = ng
             best[nc] = node
             key = _ana_key(G, ng, h) if anytime else ng + h

@@ -70,7 +70,8 @@ class ClosedLoop:
         c, h = self.d.closed_loop, self.params.hj.grids.human
         return SimSettings(c.replan_hz, c.control_hz, self.robot.radius_m, h.radius_m, self.robot.v_max,
                            self.robot.accel_min, c.goal_tolerance_m, c.trip_timeout_s, c.deadlock_s,
-                           c.deadlock_progress_m, pose_noise_m, c.human_noise_m)
+                           c.deadlock_progress_m, pose_noise_m, c.human_noise_m, velocity_window_s=c.velocity_window_s,
+                           human_speed=h.speed)
 
     def rules(self) -> str:
         """The loop's rules beyond the paper's text (sim.lattice_policy, sim.receding_horizon), for the reports."""
@@ -122,7 +123,8 @@ class ClosedLoop:
                              anytime=self.d.closed_loop.algorithm == "ANA*",
                              rest_periods=self.d.closed_loop.rest_periods,
                              reuse=self.d.closed_loop.reuse_plan,
-                             switch_gain_s=self.d.closed_loop.plan_switch_gain_s, robot_radius=self.robot.radius_m)
+                             switch_gain_s=self.d.closed_loop.plan_switch_gain_s, robot_radius=self.robot.radius_m,
+                             human_prediction_s=self.d.closed_loop.human_prediction_s)
 
     def _rng(self, run: int) -> np.random.Generator:
         return np.random.default_rng(self.d.seed + run)
@@ -149,7 +151,7 @@ class ClosedLoop:
         """Table VI, Zig-Zag: a stream of humans along one line; the robot crosses it at every trip."""
         t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
         z, room = t.zig_zag, load_room(t.room)
-        human = HumanStream(tuple(z.human_start), tuple(z.human_goal), speed)
+        human = HumanStream(tuple(z.human_start), tuple(z.human_goal), speed, z.spawn_clear_m)
         human.position = np.asarray(self._jittered(z.human_start, z.human_goal, rng))  # the stream's phase
         return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
                           room.obstacle_distance, start_state(z.robot_start[:2], z.robot_start[2]),

@@ -13,7 +13,9 @@ plans by up to 6 cm/s and grazed a Dense Room wall (measured).
 Human handling, the three rows of Tables VI and IX:
 
 - ``"fi"`` / ``"fs"``: the human-robot BRT pruner (``reach.pruners.human_pruner``) with the observed
-  human positions, forward-invariant (Eq. 14-18) or feasible-set;
+  human positions, forward-invariant (Eq. 14-18) or feasible-set; with ``human_prediction_s`` > 0 each
+  node is checked against the humans where they walk by the node's time at their observed velocities
+  (our addition: the paper's text checks the humans where they were seen);
 - ``"obs"``: the paper's OBS baseline, "the human as a static obstacle at its instantaneous position":
   the humans are discs added to the clearance field of the OBS static pruner, re-built per re-plan.
 
@@ -92,6 +94,7 @@ class LatticePolicy:
     rest_periods: int = 1  # a search from rest may continue over this many re-plan periods (1: never)
     reuse: bool = False  # keep the current plan when a re-plan runs out of budget and the plan re-checks safe
     robot_radius: float = 0.285  # m, the kept plan's collision re-check (the QBot's 570 mm base)
+    human_prediction_s: float = 0.0  # "fi"/"fs": humans predicted along their observed velocity this far (0: frozen)
     switch_gain_s: float = 0.0  # with ``reuse``: a new plan replaces a still-safe one only if it arrives this much sooner
     reuse_horizon_s: float = 2.0  # s of the kept plan re-checked: the braking time from v_max = 1 m/s at 0.5 m/s²
     expansions: list[int] = field(default_factory=list)
@@ -153,7 +156,8 @@ class LatticePolicy:
             self._heuristics[goal] = self.heuristic_for(goal)
         human = NO_HUMAN
         if self.human_mode in ("fi", "fs") and len(humans):
-            human = human_pruner(self.human_brt, humans, self.human_mode, self.fi)
+            velocities = np.asarray(observation.human_velocities, dtype=float).reshape(-1, 2)
+            human = human_pruner(self.human_brt, humans, self.human_mode, self.fi, velocities, self.human_prediction_s)
         at_rest = state[2] == 0.0
         spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
         budget = spent + self.max_expansions
@@ -207,7 +211,7 @@ class LatticePolicy:
         if k >= len(plan):
             return False
         state = np.asarray(observation.robot, dtype=float)
-        parents, segments = [], []
+        parents, segments, starts, durations = [], [], [], []
         end = min(len(plan), k + 1 + int(np.ceil(self.reuse_horizon_s / dt)))
         for i in range(k, end):
             duration = dt - (elapsed - k * dt) if i == k else dt
@@ -216,6 +220,8 @@ class LatticePolicy:
             seg = integrate(state, float(plan[i, 0]), float(plan[i, 1]), duration, n, self.spec.v_max)
             parents.append(state)
             segments.append(seg)
+            starts.append(sum(durations))
+            durations.append(duration)
             state = seg[-1]
         if not segments:
             return False
@@ -227,4 +233,4 @@ class LatticePolicy:
                 return False
         elif (self.room.signed_distance(segments[..., 0], segments[..., 1], self.robot_radius) <= 0.0).any():
             return False
-        return not (human.kind != NO_HUMAN.kind and human(parents, segments).any())
+        return not (human.kind != NO_HUMAN.kind and human(parents, segments, np.array(starts), np.array(durations)).any())

@@ -33,6 +33,8 @@ class ClosedLoopParams:
     deadlock_s: float = between(0.5, 600.0)  # no progress of deadlock_progress_m for this long: deadlock
     deadlock_progress_m: float = between(0.01, 10.0)
     human_noise_m: float = between(0.0, 1.0)  # std of each observed human position (the ZED 2 detector)
+    velocity_window_s: float = between(0.01, 10.0)  # a human's velocity: its observed displacement over this long
+    human_prediction_s: float = between(0.0, 60.0)  # FI/FS: humans predicted at their velocity up to this (0: frozen)
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,7 @@ class ZigZagParams:
     robot_goals: tuple[Point, ...]  # visited in order, then back to the first: one cycle per run
     human_start: Point = between(0.0, 20.0, length=2)
     human_goal: Point = between(0.0, 20.0, length=2)
+    spawn_clear_m: float = between(0.0, 10.0)  # a new human enters once the robot is this far from human_start
 
 
 @dataclass(frozen=True)
