@@ -201,7 +201,7 @@ def _run(outcomes, times, contacts=None):
 def test_summaries_score_like_the_paper():
     ok, hit = _run(["success", "success"], [5.0, 7.0]), _run(["success", "deadlock"], [5.0, 10.0], [1, 0])
     row = summarise_runs("FI-BRT", "Zig-Zag", [ok, ok, hit], seed=0)
-    assert (row["success"], row["runs"], row["collisions"], row["time_s"]) == (2, 3, 1, 12.0)
+    assert (row["success"], row["runs"], row["collisions"], row["time_s"], row["time_all_s"]) == (2, 3, 1, 12.0, 13.0)
     assert row["success_rate_ci"][0] < 2 / 3 < row["success_rate_ci"][1]
     none = summarise_runs("OBS", "Face-to-Face", [hit], seed=0)
     assert none["time_s"] is None and none["success"] == 0  # the paper's "Failed"

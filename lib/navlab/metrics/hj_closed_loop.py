@@ -25,9 +25,10 @@ PAPER = {
          "detour_m": 3.5},  # Fig. 8: "starts to detour when the relative distance is still approximately 3.5 m"
         {"method": "FS-BRT", "scenario": "Face-to-Face", "success": 0, "runs": 5, "time_s": None},
         {"method": "OBS", "scenario": "Face-to-Face", "success": 0, "runs": 5, "time_s": None},
-        {"method": "FI-BRT", "scenario": "Zig-Zag", "success": 5, "runs": 5, "time_s": 39.85},
-        {"method": "FS-BRT", "scenario": "Zig-Zag", "success": 5, "runs": 5, "time_s": 31.17},
-        {"method": "OBS", "scenario": "Zig-Zag", "success": 1, "runs": 5, "time_s": 30.41},
+        # the paper's Zig-Zag times, also as time_all_s: its text does not say over which runs they average
+        {"method": "FI-BRT", "scenario": "Zig-Zag", "success": 5, "runs": 5, "time_s": 39.85, "time_all_s": 39.85},
+        {"method": "FS-BRT", "scenario": "Zig-Zag", "success": 5, "runs": 5, "time_s": 31.17, "time_all_s": 31.17},
+        {"method": "OBS", "scenario": "Zig-Zag", "success": 1, "runs": 5, "time_s": 30.41, "time_all_s": 30.41},
     ],
     "table8_rooms": [
         {"method": "Dist + OBS", "room": "Long Hallway", "success": 2, "trips": 9, "time_s": 29.8},
@@ -65,8 +66,9 @@ def run_success(run: Run) -> bool:
 
 def summarise_runs(method: str, scenario: str, runs: Sequence[Run], seed: int,
                    detours: Sequence[dict | None] | None = None) -> dict:
-    """Table VI row: successful runs (Wilson), human contacts, mean navigation time of the successes and,
-    given ``detour_start`` per run, the mean distance to the human where the detour began (Fig. 8)."""
+    """Table VI row: successful runs (Wilson), human contacts, mean navigation time of the successes (the
+    paper's "Failed" where none), of all runs (contacts do not stop a run) and, given ``detour_start`` per
+    run, the mean distance to the human where the detour began (Fig. 8)."""
     ok = [r for r in runs if run_success(r)]
     rate, rate_ci = _rate(len(ok), len(runs))
     mean, ci = bootstrap_mean([r.navigation_time for r in ok], seed)
@@ -74,6 +76,7 @@ def summarise_runs(method: str, scenario: str, runs: Sequence[Run], seed: int,
            "success_rate_ci": rate_ci, "collisions": int(sum(r.collisions for r in runs)),
            "contacts_on_plan": contacts_on_plan(runs),
            "time_s": None if not ok else round(mean, 3), "time_s_ci": _ci(ci) if ok else None,
+           "time_all_s": round(float(np.mean([r.navigation_time for r in runs])), 3) if runs else None,
            "detour_m": None, "detour_m_ci": None}
     found = [d["distance_to_human_m"] for d in detours or () if d is not None]
     if found:
@@ -180,9 +183,10 @@ def check_claims(table_id: str, rows: list[dict]) -> list[str]:
         zz = {m: by[(m, "Zig-Zag")] for m in ("FI-BRT", "FS-BRT", "OBS")}
         times = {m: r["time_s"] for m, r in zz.items() if r["time_s"] is not None}
         why_zz = "a method's time counts only its runs without contact" + "; ".join(["", on_plans(zz.values())])
-        claim("OBS is the fastest on Zig-Zag but collides",
-              "OBS" in times and times["OBS"] == min(times.values()) and zz["OBS"]["collisions"] > 0,
-              ", ".join(f"{m} {t(r['time_s'])} {r['collisions']} contacts" for m, r in zz.items()), why_zz)
+        claim("OBS is the fastest on Zig-Zag but collides (time over all runs, contacts included)",
+              zz["OBS"]["time_all_s"] == min(r["time_all_s"] for r in zz.values()) and zz["OBS"]["collisions"] > 0,
+              ", ".join(f"{m} {t(r['time_all_s'])} {r['collisions']} contacts" for m, r in zz.items()),
+              on_plans(zz.values()))
         claim("FS-BRT is faster than FI-BRT on Zig-Zag (forward invariance costs time)",
               "FS-BRT" in times and "FI-BRT" in times and times["FS-BRT"] < times["FI-BRT"],
               f"{t(zz['FS-BRT']['time_s'])} vs {t(zz['FI-BRT']['time_s'])}; paper 31.17 vs 39.85 s", why_zz)
