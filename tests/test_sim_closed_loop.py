@@ -22,7 +22,7 @@ from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.store import save_grid
 from navlab.search.lattice_search import NO_HUMAN
 from navlab.sim.hj_scenarios import ClosedLoop, cyclic_goals, start_state
-from navlab.sim.receding_horizon import Observation, Run, SimSettings, Trip, run_patrol
+from navlab.sim.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 
 
 @pytest.fixture(scope="module")
@@ -162,12 +162,37 @@ def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():
     room = load_room("open")
     settings = SimSettings(trip_timeout_s=3.0, deadlock_s=10.0)
     counts = {}
-    for name, later in (("plan", np.array([[0.5, 0.0]] * 8)), ("brake", np.zeros((0, 2)))):
+    for name, later in (("plan", np.array([[0.5, 0.0]] * 8)), ("brake", np.zeros((0, 2))),
+                        ("evade", Evasion(np.array([[0.5, 0.0]] * 8)))):
         human = StraightWalker((2.6, 2.7), (0.0, 2.7))  # head-on, 1.6 m ahead of the car
         run = run_patrol(_OnePlan(later), room.obstacle_distance, start_state((1.0, 2.7), 0.0), [(8.6, 2.7)], [human],
                          settings, np.random.default_rng(0))
         counts[name] = (run.trips[0].human_contacts, contacts_on_plan([run]))
-    assert counts["plan"] == (1, 1) and counts["brake"] == (1, 0)
+    assert counts["plan"] == (1, 1) and counts["brake"] == (1, 0) and counts["evade"] == (1, 0)
+
+
+def test_without_a_plan_the_car_evades_only_where_braking_would_enter_the_human_brt(loop):
+    """A human 2.5 m ahead walking at the car: braking straight takes the BRT value below the margin, so
+    the policy issues the one step with the highest value (a turn that keeps it above); a human 4 m off
+    and to the side: it brakes."""
+    from navlab.search.dubins_lattice import integrate
+
+    room = load_room("open")
+    policy = loop.policy(room, "Dist", "OBS", "fi")
+    state = np.array([4.0, 2.7, 1.0, 0.0])
+    far = policy._evade(state, np.array([[8.0, 4.5]]), np.array([[-0.8, 0.0]]))
+    assert isinstance(far, np.ndarray) and len(far) == 0
+    human, walking = np.array([[6.5, 2.7]]), np.array([[-0.8, 0.0]])
+    out = policy._evade(state, human, walking)
+    assert isinstance(out, Evasion) and len(out.commands) == 1
+
+    def value(a, omega):
+        seg = integrate(state, a, omega, 0.5, 4, 1.0)
+        at = human + np.arange(1, 5)[:, None] * 0.125 * walking
+        return float(policy.human_brt(seg, at).min())
+
+    braking = value(min(loop.spec.accelerations), 0.0)
+    assert braking < loop.fi.margin <= value(*out.commands[0])
 
 
 def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):

@@ -84,7 +84,11 @@ class ClosedLoop:
                 f"of obstacles is planned from with the pruning threshold at its own value. Plans start from the "
                 f"observed speed exactly (the first step absorbs the gap to a lattice level) and the car executes "
                 f"their commands unmodified, so it drives the trajectory the pruners checked from the observed pose; "
-                f"under pose noise both static pruners prune {c.pose_allowance_sigmas:g} noise stds further out.")
+                f"under pose noise both static pruners prune {c.pose_allowance_sigmas:g} noise stds further out. "
+                f"FI-/FS-BRT check each node against the humans where they walk by then at their observed velocity "
+                f"(over {c.velocity_window_s:g} s; held after {c.human_prediction_s:g} s), and without a plan the car "
+                f"evades (the one step with the highest human BRT value) where braking straight would enter the "
+                f"human BRT (contacts then count as not on a plan).")
 
     def heuristic_for(self, name: str):
         if name == "Dist":

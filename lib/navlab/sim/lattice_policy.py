@@ -20,7 +20,9 @@ Human handling, the three rows of Tables VI and IX:
   the humans are discs added to the clearance field of the OBS static pruner, re-built per re-plan.
 
 A plan that cannot start (the observed state already pruned) or is not found within the budget is an
-empty command list: the simulator then brakes.
+empty command list: the simulator then brakes. With a human pruner on and humans in view, the policy
+evades instead (``_evade``: the one step that keeps the human BRT value highest, an ``Evasion`` the
+simulator counts as no plan in force).
 
 Between re-plans the anytime search is not thrown away blindly (``reuse``): when a re-plan stops at the
 expansion limit without a plan, the policy re-checks the next ``reuse_horizon_s`` of the plan the car is
@@ -70,9 +72,10 @@ import numpy as np
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
 from navlab.reach.pruners import FIParams, clearance_field, human_pruner
-from navlab.search.dubins_lattice import LatticeSpec, integrate, primitive_table
+from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, search
+from navlab.sim.receding_horizon import Evasion
 
 HUMAN_MODES = ("fi", "fs", "obs", "none")
 
@@ -155,8 +158,8 @@ class LatticePolicy:
         if goal not in self._heuristics:
             self._heuristics[goal] = self.heuristic_for(goal)
         human = NO_HUMAN
+        velocities = np.asarray(observation.human_velocities, dtype=float).reshape(-1, 2)
         if self.human_mode in ("fi", "fs") and len(humans):
-            velocities = np.asarray(observation.human_velocities, dtype=float).reshape(-1, 2)
             human = human_pruner(self.human_brt, humans, self.human_mode, self.fi, velocities, self.human_prediction_s)
         at_rest = state[2] == 0.0
         spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
@@ -177,7 +180,37 @@ class LatticePolicy:
         if self.reuse and result.status == "expansion limit" and self._still_safe(observation, static, human):
             return None
         self._current = None
+        if human.kind != NO_HUMAN.kind:
+            return self._evade(state, humans, velocities)
         return np.zeros((0, 2))
+
+    def _evade(self, state: np.ndarray, humans: np.ndarray, velocities: np.ndarray) -> Evasion | np.ndarray:
+        """No plan found: brake straight, unless that step would take the human-robot BRT value below the
+        pruner's margin; then the one step that keeps the value highest (the value function's own safety
+        controller, its argmax over the controls), among those that stay clear of the walls and can still
+        brake straight clear of them. Braking straight towards a human who turns into the car's path and
+        does not yield to a moving robot was how FI-BRT's last Table IX contact began (measured)."""
+        rows, controls = first_step(self.spec, float(state[2]))
+        c, s = np.cos(state[3]), np.sin(state[3])
+        samples = np.empty_like(rows)
+        samples[..., 0] = state[0] + c * rows[..., 0] - s * rows[..., 1]
+        samples[..., 1] = state[1] + s * rows[..., 0] + c * rows[..., 1]
+        samples[..., 2], samples[..., 3] = rows[..., 2], state[3] + rows[..., 3]
+        n, m = samples.shape[:2]
+        times = np.minimum(np.arange(1, m + 1) * self.spec.dt / m, self.human_prediction_s)
+        value = np.full(n, np.inf)
+        for xy, v in zip(humans, velocities, strict=True):
+            at = np.broadcast_to(xy + times[:, None] * v, (n, m, 2)).reshape(-1, 2)
+            value = np.minimum(value, self.human_brt(samples.reshape(-1, 4), at).reshape(n, m).min(axis=1))
+        brake = int(np.flatnonzero(controls[:, 1] == 0.0)[np.argmin(controls[controls[:, 1] == 0.0, 0])])
+        if value[brake] >= self.fi.margin:
+            return np.zeros((0, 2))
+        clear = np.array([(self.room.signed_distance(seg[:, 0], seg[:, 1], self.robot_radius) > 0.0).all()
+                          and self._brakes_clear(seg[-1:]) for seg in samples])
+        if not clear.any():
+            return np.zeros((0, 2))
+        best = int(np.argmax(np.where(clear, value, -np.inf)))
+        return Evasion(controls[best:best + 1])
 
     def _remaining_s(self, observation) -> float:
         """Time left on the plan in force for this goal (inf without one)."""

@@ -46,11 +46,19 @@ class Observation:
     human_velocities: np.ndarray  # (H, 2) estimates from the observations (``HumanTracks``)
 
 
+@dataclass(frozen=True)
+class Evasion:
+    """Commands a planner issues without a plan it searched and checked (an evasive manoeuvre where the
+    search found none): executed like a plan, counted like braking (no plan in force)."""
+
+    commands: np.ndarray  # (K, 2) (a, ω)
+
+
 class Planner(Protocol):
     dt: float  # s each returned command is held
 
-    def __call__(self, observation: Observation) -> np.ndarray | None: ...  # (K, 2) (a, ω); empty: no plan
-    # (brake); None: no new plan, keep executing the current one
+    def __call__(self, observation: Observation) -> np.ndarray | Evasion | None: ...  # (K, 2) (a, ω); empty:
+    # no plan (brake); None: no new plan, keep executing the current one; Evasion: no plan, but these commands
 
 
 class Human(Protocol):
@@ -101,7 +109,7 @@ class Trip:
     replans: int = 0
     failed_replans: int = 0  # re-plans without a new plan (the car braked or kept its plan)
     kept_plans: int = 0  # of those, the ones where the car kept executing its previous plan
-    contacts_braking: int = 0  # human contacts that began while the car had no plan in force (braking or stopped)
+    contacts_braking: int = 0  # human contacts that began with no plan in force (braking, stopped or evading)
 
     @property
     def success(self) -> bool:
@@ -196,7 +204,7 @@ def run_patrol(
         goal = (float(goal[0]), float(goal[1]))
         trip = Trip(start=(float(state[0]), float(state[1])), goal=goal)
         run.trips.append(trip)
-        commands, plan_time, next_replan = np.zeros((0, 2)), t, t
+        commands, plan_time, next_replan, evading = np.zeros((0, 2)), t, t, False
         best_dist, best_time, touching = math.hypot(goal[0] - state[0], goal[1] - state[1]), t, False
         trip_start = t
         while trip.outcome == "running":
@@ -214,8 +222,9 @@ def run_patrol(
                     trip.failed_replans += 1
                     trip.kept_plans += 1
                 else:
-                    commands, plan_time = np.asarray(new, dtype=float), t
-                    if len(commands) == 0:
+                    evading = isinstance(new, Evasion)
+                    commands, plan_time = np.asarray(new.commands if evading else new, dtype=float), t
+                    if len(commands) == 0 or evading:
                         trip.failed_replans += 1
                     elif keep_plans:
                         run.plans.append((t, commands.copy()))
@@ -231,7 +240,7 @@ def run_patrol(
             now_touching = bool(gaps) and min(gaps) < settings.robot_radius + settings.human_radius
             if now_touching and not touching:
                 trip.human_contacts += 1
-                trip.contacts_braking += int(k >= len(commands))
+                trip.contacts_braking += int(k >= len(commands) or evading)
             touching = now_touching
             dist = math.hypot(goal[0] - state[0], goal[1] - state[1])
             if dist < best_dist - settings.deadlock_progress_m:
