@@ -159,8 +159,8 @@ def check_claims(table_id: str, rows: list[dict]) -> list[str]:
     def on_plans(rs):
         """Where the contacts began: on an accepted plan or braking without one."""
         known = [r for r in rs if r.get("contacts_on_plan") is not None]
-        return "" if not known else ("human contacts that began on a plan the pruner had accepted (not braking "
-                                     "without one): " + ", ".join(f"{r['method']} {r['contacts_on_plan']}" for r in known))
+        return "" if not known else ("human contacts that began on a plan the pruner had accepted (not braking or "
+                                     "evading without one): " + ", ".join(f"{r['method']} {r['contacts_on_plan']}" for r in known))
 
     def causes(rows_by_method):
         return "failed trips by cause (wall hits / deadlocks / timeouts): " + ", ".join(
@@ -216,7 +216,10 @@ def check_claims(table_id: str, rows: list[dict]) -> list[str]:
                   on_plans(by.values()))
             claim(f"{n} human(s): completion time FI-BRT > FS-BRT > OBS",
                   by["FI-BRT"]["time_s"] > by["FS-BRT"]["time_s"] > by["OBS"]["time_s"],
-                  ", ".join(f"{m} {r['time_s']:.1f} s" for m, r in by.items()))
+                  ", ".join(f"{m} {r['time_s']:.1f} s" for m, r in by.items()),
+                  "the time includes failed trips (a deadlock counts its whole wait before the intervention); failed trips "
+                  "(collision / deadlock / timeout): " + ", ".join(
+                      f"{m} {r.get('collision')}/{r.get('deadlock')}/{r.get('timeout')}" for m, r in by.items()))
     else:
         raise ValueError(f"check_claims: no closed-loop claims for {table_id!r}")
     return out
