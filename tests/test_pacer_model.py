@@ -212,6 +212,30 @@ def test_resume_after_a_kill_matches_an_uninterrupted_run(smoke, tmp_path):
     assert log == (tmp_path / "whole" / "val_loss.tsv").read_text().splitlines()
 
 
+class CountReads(torch.utils.data.Dataset):
+    """Counts the items read (each read renders an item in the real datasets)."""
+
+    def __init__(self, inner):
+        self.inner, self.reads = inner, 0
+
+    def __len__(self):
+        return len(self.inner)
+
+    def __getitem__(self, i):
+        self.reads += 1
+        return self.inner[i]
+
+
+def test_validation_items_are_rendered_once_per_phase_and_weights_saved_in_standard_layout(smoke, tmp_path):
+    cfg = tiny_train_cfg(smoke, patience=10)
+    val = CountReads(TinyTerrainSet(6, seed=1))
+    path = train_phase(smoke.model, cfg, [TinyTerrainSet(16)], [val], tmp_path, phase="phase1", epochs=3, seed=0,
+                       progress=False)
+    assert read_summary(tmp_path)["epochs_run"] == 3 and val.reads == len(val)
+    saved = torch.load(path, weights_only=False)["weights"]
+    assert all(w.is_contiguous() for w in saved.values())  # channels-last is a training detail, not the file's
+
+
 def test_phase_two_starts_from_phase_one_weights(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke)
     train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
