@@ -138,7 +138,7 @@ class LatticePolicy:
         values = np.minimum(self._clearance.values, gap.reshape(-1).astype(self._clearance.values.dtype))
         return StaticPruner(self.static.kind, self._clearance._replace(values=values), self.static.par, "OBS")
 
-    def __call__(self, observation) -> np.ndarray:
+    def __call__(self, observation) -> np.ndarray | Evasion | None:
         state = np.asarray(observation.robot, dtype=float).copy()
         humans = np.asarray(observation.humans, dtype=float).reshape(-1, 2)
         static = self._static_for(humans)
