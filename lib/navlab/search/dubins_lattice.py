@@ -96,15 +96,9 @@ def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int
 
 
 def primitive_table(spec: LatticeSpec) -> np.ndarray:
-    """(levels, P, samples, 4): body-frame (dx, dy, v, dθ) at each sample of every primitive per start level."""
-    controls, s, m = spec.controls, spec.samples_per_step, spec.micro_steps
-    table = np.empty((spec.speed_levels, len(controls), s, 4))
-    for k in range(spec.speed_levels):
-        for p, (a, w) in enumerate(controls):
-            fine = integrate(np.array([0.0, 0.0, k * spec.dv, 0.0]), a, w, spec.dt, s * m, spec.v_max)
-            table[k, p] = fine[m - 1::m]
-    table[:, :, -1, 2] = np.round(table[:, :, -1, 2] / spec.dv) * spec.dv  # end speeds exactly on a level
-    return table
+    """(levels, P, samples, 4): body-frame (dx, dy, v, dθ) at each sample of every primitive per start level
+    (``first_step`` from each level, where it adds nothing to the accelerations)."""
+    return np.stack([first_step(spec, k * spec.dv)[0] for k in range(spec.speed_levels)])
 
 
 def first_step(spec: LatticeSpec, v: float) -> tuple[np.ndarray, np.ndarray]:
@@ -127,8 +121,20 @@ def first_step(spec: LatticeSpec, v: float) -> tuple[np.ndarray, np.ndarray]:
     rows = np.empty((len(controls), s, 4))
     for p, (a, w) in enumerate(controls):
         rows[p] = integrate(np.array([0.0, 0.0, v, 0.0]), a, w, spec.dt, s * m, spec.v_max)[m - 1::m]
-    rows[:, -1, 2] = np.round(rows[:, -1, 2] / spec.dv) * spec.dv  # on the level (float noise only)
+    rows[:, -1, 2] = np.round(rows[:, -1, 2] / spec.dv) * spec.dv  # end speeds exactly on a level
     return rows, controls
+
+
+def place(rows: np.ndarray, state: np.ndarray) -> np.ndarray:
+    """Body-frame primitive rows (..., 4) placed at ``state`` (x, y, v, θ): world-frame samples."""
+    x, y, _, th = (float(s) for s in state)
+    c, s = math.cos(th), math.sin(th)
+    out = np.empty(rows.shape)
+    out[..., 0] = x + c * rows[..., 0] - s * rows[..., 1]
+    out[..., 1] = y + s * rows[..., 0] + c * rows[..., 1]
+    out[..., 2] = rows[..., 2]
+    out[..., 3] = th + rows[..., 3]
+    return out
 
 
 def densify(spec: LatticeSpec, start: np.ndarray, controls: np.ndarray, per_step: int = 32) -> np.ndarray:
@@ -157,12 +163,5 @@ def snap(spec: LatticeSpec, state: np.ndarray) -> np.ndarray:
 def successor_samples(spec: LatticeSpec, table: np.ndarray, state: np.ndarray) -> np.ndarray:
     """(P, S, 4) world-frame samples of every primitive from ``state``: what one expansion hands a pruner
     (its last sample per primitive is the successor the heuristic sees)."""
-    x, y, v, th = (float(s) for s in state)
-    rows = table[spec.level(round(v / spec.dv) * spec.dv)]
-    c, s = math.cos(th), math.sin(th)
-    out = np.empty(rows.shape)
-    out[..., 0] = x + c * rows[..., 0] - s * rows[..., 1]
-    out[..., 1] = y + s * rows[..., 0] + c * rows[..., 1]
-    out[..., 2] = rows[..., 2]
-    out[..., 3] = th + rows[..., 3]
-    return out
+    v = float(state[2])
+    return place(table[spec.level(round(v / spec.dv) * spec.dv)], state)

@@ -72,7 +72,7 @@ import numpy as np
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
 from navlab.reach.pruners import FIParams, clearance_field, human_pruner
-from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, primitive_table
+from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, place, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, search
 from navlab.sim.receding_horizon import Evasion
@@ -191,18 +191,14 @@ class LatticePolicy:
         brake straight clear of them. Braking straight towards a human who turns into the car's path and
         does not yield to a moving robot was how FI-BRT's last Table IX contact began (measured)."""
         rows, controls = first_step(self.spec, float(state[2]))
-        c, s = np.cos(state[3]), np.sin(state[3])
-        samples = np.empty_like(rows)
-        samples[..., 0] = state[0] + c * rows[..., 0] - s * rows[..., 1]
-        samples[..., 1] = state[1] + s * rows[..., 0] + c * rows[..., 1]
-        samples[..., 2], samples[..., 3] = rows[..., 2], state[3] + rows[..., 3]
+        samples = place(rows, state)
         n, m = samples.shape[:2]
         times = np.minimum(np.arange(1, m + 1) * self.spec.dt / m, self.human_prediction_s)
         value = np.full(n, np.inf)
         for xy, v in zip(humans, velocities, strict=True):
             at = np.broadcast_to(xy + times[:, None] * v, (n, m, 2)).reshape(-1, 2)
             value = np.minimum(value, self.human_brt(samples.reshape(-1, 4), at).reshape(n, m).min(axis=1))
-        brake = int(np.flatnonzero(controls[:, 1] == 0.0)[np.argmin(controls[controls[:, 1] == 0.0, 0])])
+        brake = int(np.argmin(np.where(controls[:, 1] == 0.0, controls[:, 0], np.inf)))  # hardest, straight
         if value[brake] >= self.fi.margin:
             return np.zeros((0, 2))
         clear = np.array([(self.room.signed_distance(seg[:, 0], seg[:, 1], self.robot_radius) > 0.0).all()
