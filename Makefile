@@ -17,7 +17,9 @@ $(STAMP): environment.txt pyproject.toml
 data: setup
 	$(BIN)/python -m navlab data build
 
-repro: data
+# dvc.yaml and params.resolved.yaml are generated (navlab.pipeline.dvc_yaml); the `data` stage builds data/.
+repro: setup
+	$(BIN)/python -m navlab pipeline write
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/dvc repro
 
 test: setup

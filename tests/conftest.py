@@ -25,7 +25,7 @@ def smoke_params():
 @pytest.fixture(scope="session")
 def smoke_data(tmp_path_factory, smoke_params) -> Path:
     """data/ built with the smoke profile into a temporary folder (downloads are cached)."""
-    from navlab.cli import data_steps
+    from navlab.pipeline.steps import data_steps
     from navlab.pipeline import dataset
 
     return dataset.build(tmp_path_factory.mktemp("smoke") / "data", smoke_params, data_steps(), log=lambda m: None)
@@ -34,7 +34,7 @@ def smoke_data(tmp_path_factory, smoke_params) -> Path:
 @pytest.fixture(scope="session")
 def smoke_artifacts(tmp_path_factory, smoke_params, smoke_data) -> Path:
     """Every artefact step (HJ grids, trained models) for the smoke profile."""
-    from navlab.cli import artifact_steps
+    from navlab.pipeline.steps import artifact_steps
 
     out = tmp_path_factory.mktemp("smoke_artifacts")
     for _, step in artifact_steps():

@@ -35,9 +35,3 @@ def test_missing_data_says_which_command_builds_it(tmp_path):
     proc = _run("data", "verify", "--data-dir", str(tmp_path / "nothing"))
     assert proc.returncode == 1
     assert "python -m navlab data build" in proc.stdout
-
-
-def test_record_of_an_unrecorded_build_stops_before_building(tmp_path):
-    proc = _run("data", "build", "--profile", "smoke", "--record", "--data-dir", str(tmp_path / "data"))
-    assert proc.returncode == 2 and "--profile default" in proc.stderr
-    assert not any(tmp_path.iterdir())  # nothing was built (no data.partial/ left behind)

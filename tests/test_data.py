@@ -2,7 +2,7 @@
 
 import pytest
 
-from navlab.cli import data_steps
+from navlab.pipeline.steps import data_steps
 from navlab.core.io import DataError, require
 from navlab.pipeline import dataset, sources
 

@@ -5,8 +5,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from navlab.cli import artifact_steps
+from navlab.pipeline.steps import artifact_steps
 from navlab.pipeline.notebooks import discover
+from navlab.pipeline.dvc_yaml import drifted
 from navlab.pipeline.stages import stage_sources, uncovered
 
 STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
@@ -46,6 +47,10 @@ def test_stage_deps_cover_every_module_it_runs(name):
     assert not missing, f"dvc.yaml stage {name!r}: add to its deps: {', '.join(missing)}"
 
 
-def test_data_stage_guards_the_snapshot():
-    assert STAGES["data"]["cmd"] == "python -m navlab data check"
+def test_generated_pipeline_files_are_current():
+    assert not drifted("."), "dvc.yaml / params.resolved.yaml are stale: run `python -m navlab pipeline write`"
+
+
+def test_data_stage_builds_the_snapshot():
+    assert STAGES["data"]["cmd"] == "python -m navlab data build"
     assert not Path("data.dvc").exists(), "data/ is recorded by the `data` stage in dvc.lock, not by data.dvc"

@@ -13,34 +13,7 @@ from pathlib import Path
 
 from navlab.core.io import DataError, folder_lock
 from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
-
-
-def data_steps():
-    """The steps of ``data build``, in order; each writes under its own folder of data/."""
-    from navlab.maps.dataset import build_maps
-    from navlab.pipeline.sources import build_raw
-    from navlab.surenav.experts import build_demos
-
-    return [("raw", build_raw), ("maps", build_maps), ("demos", build_demos)]
-
-
-def artifact_steps():
-    """The artefact builders (DVC stage outputs under artifacts/), by name, in dependency order.
-
-    Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
-    (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
-    """
-    from navlab.pacer.artifacts import artifact_steps as pacer_steps
-    from navlab.reach.precompute import build_hj_grids
-    from navlab.surenav.artifacts import artifact_steps as surenav_steps
-    from navlab.surenav.episodes import build_episodes
-
-    return [
-        ("hj_grids", build_hj_grids),
-        ("surenav_episodes", build_episodes),
-        *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
-        *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)
-    ]
+from navlab.pipeline.steps import artifact_steps, data_steps
 
 
 def _artifacts_build(args) -> int:
@@ -61,44 +34,24 @@ def _artifacts_build(args) -> int:
 
 
 def _data_build(args) -> int:
+    """Build data/ unless it was built by this profile, the current generator code and intact content.
+
+    The `data` stage of dvc.yaml runs this; DVC then records data/ in dvc.lock (``data verify`` compares
+    data/ with that record later). A finished build is never redone; a killed one resumes.
+    """
     from navlab.pipeline import dataset
 
-    root = repo_root()
     params = load_params(args.profile)
     data_dir = Path(args.data_dir)
-    lock_file = root / "dvc.lock"
-    # dvc.lock speaks for the checkout's data/ (however --data-dir spells it) in the recorded profile only
-    checked = data_dir.resolve() == (root / "data").resolve() and params.profile == dataset.RECORDED_PROFILE
-    if args.record and not checked:  # said before a build of several minutes, not after it
-        raise DataError(f"dvc.lock records {root / 'data'} built with the {dataset.RECORDED_PROFILE!r} profile; "
-                        f"rerun with --profile {dataset.RECORDED_PROFILE} and without --data-dir")
     steps = data_steps()
-    if checked and not (args.force or args.record):
-        ok, msg = dataset.verify(data_dir, lock_file)
-        if ok and dataset.check(data_dir, params, steps)[0]:
+    if not args.force:
+        ok, msg = dataset.check(data_dir, params, steps)
+        if ok:
             print(f"{msg}; nothing to do")
             return 0
     dataset.build(data_dir, params, steps)
-    if args.record:
-        _dvc_commit(root)
-        print(f"recorded {data_dir}/ in dvc.lock ({dataset.recorded_digest(lock_file)}); commit dvc.lock")
-        return 0
-    if not checked:
-        print(f"built {data_dir}/ with profile {params.profile!r} (dvc.lock records only "
-              f"{dataset.RECORDED_PROFILE!r} builds of data/; not checked)")
-        return 0
-    ok, msg = dataset.verify(data_dir, lock_file)
-    print(msg)
-    if ok:
-        _dvc_commit(root)
-    return 0 if ok else 1
-
-
-def _dvc_commit(root: Path) -> None:
-    """Record data/ (and the generator code and params it was built by) as the ``data`` stage in dvc.lock."""
-    from navlab.pipeline.dataset import STAGE
-
-    subprocess.run([sys.executable, "-m", "dvc", "commit", "-q", "-f", STAGE], cwd=root, check=True)
+    print(f"built {data_dir}/ with profile {params.profile!r}")
+    return 0
 
 
 def _data_check(args) -> int:
@@ -188,9 +141,47 @@ def _params_show(args) -> int:
     return 0
 
 
+def _pipeline_write(args) -> int:
+    from navlab.pipeline.dvc_yaml import write
+
+    changed = write(repo_root())
+    print(f"wrote {', '.join(changed)}" if changed else "dvc.yaml and params.resolved.yaml are current")
+    return 0
+
+
+def _pipeline_check(args) -> int:
+    """Exit 1 when dvc.yaml or params.resolved.yaml drifted from the code, or dvc.lock is stale."""
+    from navlab.pipeline.dvc_yaml import drifted, stale_stages
+
+    root = repo_root()
+    problems = [f"{name} differs from what the code writes; run `python -m navlab pipeline write`"
+                for name in drifted(root)]
+    if not problems:  # dvc status reads dvc.yaml: only meaningful once it is current
+        problems = [f"stale in dvc.lock: {line}; regenerate with `dvc repro` and commit dvc.lock with the reports"
+                    for line in stale_stages(root)]
+    for line in problems:
+        print(line, file=sys.stderr)
+    if not problems:
+        print("dvc.yaml and params.resolved.yaml are current; dvc.lock describes every stage")
+    return 1 if problems else 0
+
+
+def _refuse_stale_resolved_params(args) -> None:
+    """Under `dvc repro` (which sets DVC_STAGE) the stage reads params.yaml, but DVC compared
+    params.resolved.yaml: refuse to run when the two disagree, so no stage runs on unrecorded values."""
+    if not os.environ.get("DVC_STAGE") or args.group not in ("data", "artifacts", "notebook"):
+        return
+    from navlab.pipeline.dvc_yaml import RESOLVED, drifted
+
+    if RESOLVED in drifted(repo_root()):
+        raise ParamsError(f"{RESOLVED} does not match params.yaml; run `python -m navlab pipeline write` "
+                          "(`make repro` does) before `dvc repro`")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
-    groups = parser.add_subparsers(dest="group", required=True, metavar="{data,artifacts,notebook,lab,reports,params}")
+    groups = parser.add_subparsers(dest="group", required=True,
+                                   metavar="{data,artifacts,notebook,lab,reports,params,pipeline}")
 
     def profile_arg(p):
         p.add_argument("--profile", choices=PROFILES, default=None,
@@ -205,8 +196,7 @@ def build_parser() -> argparse.ArgumentParser:
     b = data_cmds.add_parser("build", help="build data/ from packages and seeded generators (resumable)")
     profile_arg(b)
     folder_args(b, "data")
-    b.add_argument("--force", action="store_true", help="rebuild even if data/ already matches dvc.lock")
-    b.add_argument("--record", action="store_true", help="record the new build in dvc.lock (dvc commit data)")
+    b.add_argument("--force", action="store_true", help="rebuild even if data/ was built by this profile and code")
     b.set_defaults(func=_data_build)
     c = data_cmds.add_parser("check", help="refuse a data/ built by another profile or older generator code "
                                            "(the `data` stage of dvc.yaml)")
@@ -257,12 +247,20 @@ def build_parser() -> argparse.ArgumentParser:
     s = par_cmds.add_parser("show", help="print the resolved parameters of a profile")
     profile_arg(s)
     s.set_defaults(func=_params_show)
+
+    pipe = groups.add_parser("pipeline", help="dvc.yaml and params.resolved.yaml, generated from the stage registry")
+    pipe_cmds = pipe.add_subparsers(dest="cmd", required=True)
+    w = pipe_cmds.add_parser("write", help="write dvc.yaml and params.resolved.yaml (the active profile resolved)")
+    w.set_defaults(func=_pipeline_write)
+    k = pipe_cmds.add_parser("check", help="fail when the generated files drifted or dvc.lock is stale")
+    k.set_defaults(func=_pipeline_check)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
+        _refuse_stale_resolved_params(args)
         return args.func(args)
     except (ParamsError, DataError) as err:
         print(f"error: {err}", file=sys.stderr)

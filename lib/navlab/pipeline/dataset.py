@@ -4,9 +4,9 @@ A build writes into ``data.partial/``; each finished step leaves a stamp there k
 fingerprint of the step's modules, the data parameters and the previous step's stamp, so a killed
 build resumes where it stopped and a build resumed under edited generator code redoes what that code
 makes. Only a complete build is renamed to ``data/``, and ``data.build.json`` beside it records the
-profile, generator code and parameters that built it: ``data check`` (the ``data`` stage of dvc.yaml,
-which ``dvc repro`` runs before it records data/) refuses a snapshot of another profile or of older
-code, so a smoke build is never recorded as the default. ``data.lock`` keeps two builds apart. The
+profile, generator code and parameters that built it: ``data check`` refuses a snapshot of another
+profile or of older code, and ``data build`` (the ``data`` stage of dvc.yaml, after which DVC records
+data/ in dvc.lock) rebuilds such a snapshot instead of vouching for it. ``data.lock`` keeps two builds apart. The
 digest is DVC's own directory hash (dvc-data), so ``data verify`` agrees with the ``data`` stage's out
 in dvc.lock.
 """
@@ -30,7 +30,6 @@ from navlab.core.io import DATA_BUILD_COMMAND as BUILD_COMMAND
 from navlab.core.params import Params
 
 Step = tuple[str, Callable[[Params, Path], None]]
-RECORDED_PROFILE = "default"
 STAGE = "data"  # the dvc.yaml stage whose out is data/
 DATA_PARAMS = ("data", "surenav.graph")  # the params.yaml sections the generators read (the stage's params)
 
@@ -64,12 +63,12 @@ def verify(data_dir: str | Path, lock_file: str | Path) -> tuple[bool, str]:
         return False, f"{data_dir}/ does not exist; build it with `{BUILD_COMMAND}`"
     want = recorded_digest(lock_file)
     if want is None:
-        return False, f"{lock_file} records no data/; record the snapshot with `{BUILD_COMMAND} --record`"
+        return False, f"{lock_file} records no data/; record the snapshot with `dvc repro data`"
     got = digest(data_dir)
     if got == want:
         return True, f"{data_dir}/ matches {lock_file} ({got})"
     return False, (f"{data_dir}/ differs from {lock_file}: digest {got}, recorded {want}; rebuild with "
-                   f"`{BUILD_COMMAND} --force`, or if the builder changed on purpose, `{BUILD_COMMAND} --record`")
+                   f"`{BUILD_COMMAND} --force`, or if the builder changed on purpose, `dvc repro data`")
 
 
 def data_params(params: Params) -> dict[str, Any]:

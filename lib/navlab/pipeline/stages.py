@@ -6,7 +6,7 @@ an old result under new code (issue 13). The module set is the one the caches ke
 
 - ``notebook run NB``: the navlab modules NB's code cells import;
 - ``artifacts build --only NAME``: the module that defines the artefact step NAME;
-- ``data check``: the modules of the data-build steps;
+- ``data build``: the modules of the data-build steps and the build itself (``navlab.pipeline.dataset``);
 - ``reports index``: the report writer.
 
 Convention for a new stage: its ``deps`` list every file this returns, or a folder that holds them
@@ -42,7 +42,7 @@ def notebook_imports(notebook: str | Path) -> list[str]:
 
 def entry_modules(cmd: str, root: str | Path) -> list[str]:
     """The navlab modules a stage command starts from (see the module docstring)."""
-    from navlab.cli import artifact_steps, data_steps
+    from navlab.pipeline.steps import artifact_steps, data_steps
 
     args = shlex.split(cmd)
     if args[:3] != ["python", "-m", "navlab"]:
@@ -53,8 +53,8 @@ def entry_modules(cmd: str, root: str | Path) -> list[str]:
     if (group, sub) == ("artifacts", "build"):
         steps = dict(artifact_steps())
         return sorted({steps[name].__module__ for name in args[args.index("--only") + 1:: 2]})
-    if (group, sub) == ("data", "check"):
-        return sorted({fn.__module__ for _, fn in data_steps()})
+    if (group, sub) == ("data", "build"):
+        return sorted({fn.__module__ for _, fn in data_steps()} | {"navlab.pipeline.dataset"})
     if (group, sub) == ("reports", "index"):
         return ["navlab.pipeline.reports"]
     raise ValueError(f"stage command {cmd!r}: no entry point known for `{group} {sub}`; add it to "
