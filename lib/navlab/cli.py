@@ -1,11 +1,13 @@
 """``python -m navlab``: build and verify the dataset, run notebooks with a profile, index the reports.
 
-Every subcommand has ``--help``. Errors in parameters or data stop with one line and exit code 2.
+Every subcommand has ``--help``. Errors in parameters or data, and a full disk or a read-only folder,
+stop with one line and exit code 2.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import subprocess
 import sys
@@ -108,29 +110,19 @@ def _reports_index(args) -> int:
 
 
 def _reports_diff(args) -> int:
-    import json
+    from navlab.pipeline.report_diff import committed_reports, diff_folder
 
-    from navlab.pipeline.report_diff import diff_reports
-    from navlab.pipeline.reports import read_table
-
-    root, reports_dir = repo_root(), Path(args.reports_dir)
+    reports_dir = Path(args.reports_dir)
     if not reports_dir.is_dir():
         raise DataError(f"{reports_dir}/ does not exist; pass the folder of regenerated reports with --reports-dir")
-    moved, compared = [], 0
-    for path in sorted(reports_dir.glob("*/*.json")):
-        rel = path.resolve().relative_to(root).as_posix() if path.resolve().is_relative_to(root) else \
-            f"reports/{path.parent.name}/{path.name}"
-        shown = subprocess.run(["git", "show", f"{args.rev}:{rel}"], cwd=root, capture_output=True, text=True,
-                               check=False)
-        if shown.returncode != 0:
-            print(f"{rel}: not in {args.rev} (new table)")
-            continue
-        compared += 1
-        moved += diff_reports(json.loads(shown.stdout), read_table(path))
-    for m in moved:
-        print(m)
-    print(f"{compared} tables compared with {args.rev}: {len(moved)} numbers moved")
-    return 1 if moved else 0
+    found = diff_folder(reports_dir, committed_reports(repo_root(), args.rev))
+    for name in found.new:
+        print(f"{name}: not in {args.rev} (new table)")
+    for line in [*found.unusable, *found.moved]:
+        print(line)
+    print(f"{found.compared} tables compared with {args.rev}: {len(found.moved)} numbers moved, "
+          f"{len(found.unusable)} reports missing or unreadable")
+    return 1 if found.moved or found.unusable else 0
 
 
 def _params_show(args) -> int:
@@ -227,7 +219,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(func=_notebook_run)
 
     lab = groups.add_parser("lab", help="JupyterLab on notebooks/ (loopback); profile for Run All: $NAVLAB_PROFILE")
-    lab.add_argument("options", nargs=argparse.REMAINDER, help="passed to `jupyter lab`, e.g. --port 9999")
+    lab.add_argument("options", nargs=argparse.REMAINDER, help="passed to `jupyter lab`, e.g. --port 9999 "
+                                                                "(everything after `lab`, options included)")
     lab.set_defaults(func=_lab)
 
     rep = groups.add_parser("reports", help="report files")
@@ -257,13 +250,46 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
+WRITE_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM)
+
+
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    """The parsed command line; everything after ``lab`` goes to jupyter lab untouched.
+
+    Why: argparse's REMAINDER after a subcommand refuses a leading ``--option`` (``lab --port 9999``, the
+    example of ``lab --help``), so ``lab``'s options are split off before argparse sees them.
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    passed = []
+    if argv[:1] == ["lab"] and argv[1:2] not in (["-h"], ["--help"]):
+        argv, passed = argv[:1], argv[1:]
     args = build_parser().parse_args(argv)
+    if args.group == "lab":
+        args.options = passed
+    return args
+
+
+def write_error(err: OSError) -> str | None:
+    """One line for a write refused by the system (disk full, read-only, no permission); else None."""
+    if err.errno not in WRITE_ERRORS:
+        return None
+    where = os.fsdecode(err.filename) if isinstance(err.filename, str | bytes | os.PathLike) else "a file"
+    return f"{where}: {os.strerror(err.errno)}; free space or fix its permissions, then run the command again"
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
     try:
         _refuse_stale_resolved_params(args)
         return args.func(args)
     except (ParamsError, DataError) as err:
         print(f"error: {err}", file=sys.stderr)
+        return 2
+    except OSError as err:
+        line = write_error(err)
+        if line is None:
+            raise
+        print(f"error: {line}", file=sys.stderr)
         return 2
 
 

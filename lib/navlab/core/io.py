@@ -45,19 +45,42 @@ def cache_dir() -> Path:
     return Path(os.environ.get("NAVLAB_CACHE", Path.home() / ".cache" / "navlab")) / "packages"
 
 
+def _naming(err: OSError, target: Path) -> OSError:
+    """``err`` naming ``target`` when it names no file or our temporary one (meaningless to the user).
+
+    Why: a full disk fails the write itself, whose OSError carries no file name, and a read-only folder
+    fails the temporary file; the one-line error (cli.main) must name the file that was being written.
+    """
+    name = Path(os.fsdecode(err.filename)) if isinstance(err.filename, str | bytes | os.PathLike) else None
+    ours = err.filename is None or (name is not None and name.parent == target.parent
+                                    and name.name.startswith(f".{target.name}."))
+    if not ours or err.errno is None:
+        return err
+    return OSError(err.errno, err.strerror, str(target))
+
+
 @contextlib.contextmanager
 def atomic_path(target: str | Path, suffix: str = "") -> Iterator[Path]:
-    """Yield a temporary path beside ``target``; on success it is renamed to ``target``, else removed."""
-    target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=suffix or target.suffix)
-    os.close(fd)
-    tmp = Path(tmp)
+    """Yield a temporary path beside ``target``; on success it is renamed to ``target``, else removed.
+
+    An OSError on the way (a full disk, a read-only folder) names ``target``, never the temporary file.
+    """
+    target, tmp = Path(target), None
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=suffix or target.suffix)
+        os.close(fd)
+        tmp = Path(name)
         yield tmp
         os.replace(tmp, target)
+    except OSError as err:
+        renamed = _naming(err, target)
+        if renamed is err:
+            raise
+        raise renamed from err
     finally:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
 
 
 def write_bytes(target: str | Path, data: bytes) -> None:

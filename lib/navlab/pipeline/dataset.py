@@ -4,11 +4,12 @@ A build writes into ``data.partial/``; each finished step leaves a stamp there k
 fingerprint of the step's modules, the data parameters and the previous step's stamp, so a killed
 build resumes where it stopped and a build resumed under edited generator code redoes what that code
 makes. Only a complete build is renamed to ``data/``, and ``data.build.json`` beside it records the
-profile, generator code and parameters that built it: ``data check`` refuses a snapshot of another
-profile or of older code, and ``data build`` (the ``data`` stage of dvc.yaml, after which DVC records
-data/ in dvc.lock) rebuilds such a snapshot instead of vouching for it. ``data.lock`` keeps two builds apart. The
-digest is DVC's own directory hash (dvc-data), so ``data verify`` agrees with the ``data`` stage's out
-in dvc.lock.
+profile, generator code and parameters that built it, and the snapshot's content digest: ``data check``
+refuses a snapshot of another profile, of older code, or edited after its build (one flipped byte), and
+``data build`` (the ``data`` stage of dvc.yaml, after which DVC records data/ in dvc.lock) rebuilds such
+a snapshot instead of vouching for it. ``data.lock`` keeps two builds apart. The digest is DVC's own
+directory hash (dvc-data), so ``data verify`` agrees with the ``data`` stage's out in dvc.lock. A data/
+that is a symlink (the snapshot kept on another disk) is built through the link, beside its target.
 """
 
 from __future__ import annotations
@@ -116,17 +117,45 @@ def check(data_dir: str | Path, params: Params, steps: Sequence[Step]) -> tuple[
         return False, f"{data_dir}/ was built by older generator code (maps, demos or sources changed); {fix}"
     if built.get("params") != want["params"]:
         return False, f"{data_dir}/ was built with other {' / '.join(DATA_PARAMS)} parameters; {fix}"
+    if built.get("digest") is None:
+        return False, f"{data_dir}/ has a build record without its content digest (an older build); {fix}"
+    got = digest(data_dir)  # last: the cheap checks first (a default data/ hashes in well under a second)
+    if got != built["digest"]:
+        return False, (f"{data_dir}/ was changed after its build (digest {got}, built {built['digest']}); "
+                       f"{fix}")
     return True, f"{data_dir}/ was built with the {params.profile!r} profile by the current generator code"
+
+
+def build_target(data_dir: Path) -> Path:
+    """The folder a build replaces: ``data_dir`` itself, or where it links to (created if it dangles).
+
+    Why: a data/ symlinked to another disk used to fail after minutes of building, at the final rmtree
+    (which refuses a link) or the rename (across file systems); the link itself must stay.
+    """
+    return data_dir.resolve() if data_dir.is_symlink() else data_dir
+
+
+def _run_step(step: Callable[[Params, Path], None], params: Params, partial: Path) -> None:
+    """Run one step; an OSError that names no file (a full disk on write) is made to name ``partial``."""
+    try:
+        step(params, partial)
+    except OSError as err:
+        if err.filename is None and err.errno is not None:
+            raise OSError(err.errno, err.strerror, str(partial)) from err
+        raise
 
 
 def build(data_dir: str | Path, params: Params, steps: Sequence[Step], log: Callable[[str], None] = print) -> Path:
     """Run ``steps`` into ``<data_dir>.partial`` (resuming finished ones), then rename it to ``data_dir``.
 
     Holds ``<data_dir>.lock`` throughout: a second build of the same folder stops with a DataError.
+    When ``data_dir`` is a symlink, the partial folder and the lock sit beside its target, which is
+    replaced; the link stays. The build record (beside ``data_dir``) ends with the content digest.
     """
     data_dir = Path(data_dir)
-    partial = data_dir.with_name(data_dir.name + ".partial")
-    with folder_lock(data_dir.with_name(data_dir.name + ".lock"), f"{data_dir}/"):
+    target = build_target(data_dir)
+    partial = target.with_name(target.name + ".partial")
+    with folder_lock(target.with_name(target.name + ".lock"), f"{data_dir}/"):
         stamps = partial / BUILD_STAMPS
         stamps.mkdir(parents=True, exist_ok=True)
         previous = None
@@ -140,13 +169,13 @@ def build(data_dir: str | Path, params: Params, steps: Sequence[Step], log: Call
                 continue
             start = time.perf_counter()
             log(f"[data] {name}: building …")
-            step(params, partial)
+            _run_step(step, params, partial)
             write_text(stamp, key)
             log(f"[data] {name}: done in {time.perf_counter() - start:.1f} s")
         shutil.rmtree(stamps)
         record_path(data_dir).unlink(missing_ok=True)  # the old record must not vouch for the new snapshot
-        if data_dir.exists():
-            shutil.rmtree(data_dir)
-        partial.rename(data_dir)
-        write_json(record_path(data_dir), build_record(params, steps))
+        if target.exists():
+            shutil.rmtree(target)
+        partial.rename(target)
+        write_json(record_path(data_dir), {**build_record(params, steps), "digest": digest(target)})
     return data_dir
