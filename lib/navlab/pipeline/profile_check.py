@@ -88,6 +88,7 @@ def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
         model = PacerNet(params.pacer.model, context_pairs=d.n_pairs)
         image = torch.empty(1, 3, d.image_size, d.image_size)
         context = torch.empty(1, 3 * d.n_pairs, 2 * d.patch_size, d.patch_size)
+    model.eval()  # batch norm on a batch of one: shapes as in training, without its batch-of-one refusal
     activations = _activation_count(model, lambda: model(image, context))
     if isinstance(activations, str):
         return [f"pacer.model with pacer.data.image_size = {d.image_size}, patch_size = {d.patch_size}: {activations}"]
@@ -97,8 +98,9 @@ def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
     notes.append(f"pacer model {n / 1e6:.2f} M parameters; training at batch {t.batch_size} needs ~{need:.1f} GiB "
                  f"of {budget:g} GiB ({t.device})")
     if need > budget:
-        return [f"pacer.train.batch_size = {t.batch_size}: training needs ~{need:.1f} GiB on {t.device} (model "
-                f"{n / 1e6:.1f} M parameters at pacer.data.image_size = {d.image_size}), over the {budget:g} GiB budget"]
+        return [(f"pacer.train.batch_size = {t.batch_size}: training needs ~{need:.1f} GiB on {t.device} "
+                 f"(model {n / 1e6:.1f} M parameters at pacer.data.image_size = {d.image_size}), "
+                 f"over the {budget:g} GiB budget")]
     return []
 
 
@@ -126,7 +128,8 @@ def _activation_count(model, forward: Callable[[], object]) -> int | str:
 def pacer_batch_problems(params: Params, notes: list[str]) -> list[str]:
     """A batch larger than the examples it is drawn from never happens: the stated size is a typo."""
     p, problems = params.pacer, []
-    pairs = [("pacer.train.batch_size", p.train.batch_size, "pacer.train.examples_per_epoch", p.train.examples_per_epoch),
+    pairs = [("pacer.train.batch_size", p.train.batch_size,
+              "pacer.train.examples_per_epoch", p.train.examples_per_epoch),
              ("pacer.train.val_examples", p.train.val_examples, "pacer.data.sizes.val", p.data.sizes.val),
              ("pacer.baselines.sterling.batch_size", p.baselines.sterling.batch_size,
               "pacer.baselines.sterling.patches_per_epoch", p.baselines.sterling.patches_per_epoch),
