@@ -170,6 +170,24 @@ def _refuse_stale_resolved_params(args) -> None:
                           "(`make repro` does) before `dvc repro`")
 
 
+def _params_check(args) -> int:
+    from navlab.pipeline.profile_check import check_profile
+
+    problems = []
+    for profile in [args.profile] if args.profile else PROFILES:
+        try:
+            found, notes = check_profile(load_params(profile, args.params))
+        except ParamsError as err:
+            found, notes = [str(err)], []
+        for note in notes:
+            print(f"[{profile}] {note}")
+        problems += [f"[{profile}] {p}" for p in found]
+    for problem in problems:
+        print(f"error: {problem}", file=sys.stderr)
+    print(f"{len(problems)} problem(s)" if problems else "every profile fits")
+    return 2 if problems else 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
     groups = parser.add_subparsers(dest="group", required=True,
@@ -235,11 +253,17 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--rev", default="HEAD", help="git revision holding the committed reports (default: HEAD)")
     d.set_defaults(func=_reports_diff)
 
-    par = groups.add_parser("params", help="show validated parameters")
+    par = groups.add_parser("params", help="show or check validated parameters")
     par_cmds = par.add_subparsers(dest="cmd", required=True)
     s = par_cmds.add_parser("show", help="print the resolved parameters of a profile")
     profile_arg(s)
     s.set_defaults(func=_params_show)
+
+    k = par_cmds.add_parser("check", help="dry-run each profile's stage shapes on the CPU: model sizes, aerial "
+                                          "vs test-map sizes, patch vs image sizes, HJ grids vs memory")
+    k.add_argument("--profile", choices=PROFILES, default=None, help="check one profile (default: all)")
+    k.add_argument("--params", default=None, help="params.yaml to check (default: the checkout's)")
+    k.set_defaults(func=_params_check)
 
     pipe = groups.add_parser("pipeline", help="dvc.yaml and params.resolved.yaml, generated from the stage registry")
     pipe_cmds = pipe.add_subparsers(dest="cmd", required=True)
