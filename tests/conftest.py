@@ -17,6 +17,20 @@ def _in_checkout():
     os.chdir(ROOT)
 
 
+@pytest.fixture(autouse=True)
+def _torch_state_stays_in_its_test():
+    """A test (or the library code it calls: training sets its thread count) may change torch's global
+    state; restore it, so no test's numbers depend on which tests ran before it."""
+    import torch
+
+    threads, deterministic = torch.get_num_threads(), torch.are_deterministic_algorithms_enabled()
+    rng = torch.get_rng_state()
+    yield
+    torch.set_num_threads(threads)
+    torch.use_deterministic_algorithms(deterministic)
+    torch.set_rng_state(rng)
+
+
 @pytest.fixture(scope="session")
 def smoke_params():
     return load_params("smoke")

@@ -381,9 +381,13 @@ def test_match_evidence_flips_with_the_context_and_ignores_pair_order(smoke):
     reordered = torch.cat([context[:, 6:9], context[:, 0:3], context[:, 3:6]], dim=1)
     with torch.no_grad():
         match, match_swapped, match_reordered = (model.matcher(image, c) for c in (context, swapped, reordered))
-    assert torch.allclose(match_swapped[:, 0], -match[:, 0], atol=1e-5)
-    assert torch.allclose(match_swapped[:, 1], match[:, 1], atol=1e-5)
-    assert torch.allclose(match_reordered, match, atol=1e-5)
+    # float32 sums in another order (another thread count, another kernel) differ by a few ulps of the
+    # summands; a sign or pairing error would be of the evidence's own size
+    atol = 1e-4 * float(match.abs().max().clamp(min=1.0))
+    torch.testing.assert_close(match_swapped[:, 0], -match[:, 0], rtol=0, atol=atol)
+    torch.testing.assert_close(match_swapped[:, 1], match[:, 1], rtol=0, atol=atol)
+    torch.testing.assert_close(match_reordered, match, rtol=0, atol=atol)
+    assert float(match[:, 0].abs().max()) > 100 * atol  # the evidence is not ~0, so the sign test bites
 
 
 def test_brief_training_follows_the_context_on_terrains_it_never_saw(smoke):
