@@ -71,17 +71,38 @@ def one_route_pairs(n: int, seed: int = 0) -> list[tuple[int, int]]:
     return pairs
 
 
+def long_detour(start_col: int, goal_col: int) -> bool:
+    """The expert's crosswalk route is at least 1.5x the straight walk across the grass: only a grass cost
+    learned well above the crosswalk's keeps the plan on the crosswalk here."""
+    graph = crossing_graph(start_col, goal_col)
+    straight = graph_astar(graph, graph.start_node, graph.goal_node).cost
+    return min(crosswalk_route_costs(start_col, goal_col)) >= 1.5 * straight
+
+
+def split_pairs() -> tuple[list, list, list]:
+    """12 crossings to train on, 4 to select the checkpoint, 4 held out; the last two sets hold two long
+    detours each, so neither selection nor the assertion is saturated by easy crossings."""
+    pairs = one_route_pairs(40)
+    hard = [p for p in pairs if long_detour(*p)]
+    easy = [p for p in pairs if p not in hard]
+    val, held_out = hard[:2] + easy[:2], hard[2:4] + easy[2:4]
+    train = [p for p in pairs if p not in val + held_out][:12]
+    return train, val, held_out
+
+
 @pytest.fixture(scope="module")
 def samples(settings):
-    """20 tie-free crossings: 12 to train on, 4 to select the checkpoint, 4 held out for assertions."""
-    return [crossing_sample(a, b, settings[0]) for a, b in one_route_pairs(20)]
+    """Train (12), validation (4), held out (4): 20 tie-free crossings, in that order."""
+    return [crossing_sample(a, b, settings[0]) for part in split_pairs() for a, b in part]
 
 
-def test_fixture_routes_have_no_ties():
+def test_fixture_routes_have_no_ties_and_the_held_out_set_has_long_detours():
     assert crosswalk_route_costs(10, 2)[0] == pytest.approx(crosswalk_route_costs(10, 2)[1])  # the old tie
-    for a, b in one_route_pairs(20):
+    train, val, held_out = split_pairs()
+    for a, b in train + val + held_out:
         c = crosswalk_route_costs(a, b)
         assert abs(c[0] - c[1]) > 0.5 * BLOCK
+    assert sum(long_detour(*p) for p in held_out) == 2 and not set(train) & set(val + held_out)
 
 
 def test_loss_eq12_by_hand_and_sample_weight_eq14():
