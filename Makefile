@@ -4,7 +4,7 @@ VENV    := .venv
 BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.installed
 
-.PHONY: setup data repro test lab clean-venv
+.PHONY: setup data repro test test-fast lab clean-venv
 
 setup: $(STAMP)
 
@@ -22,8 +22,14 @@ repro: setup
 	$(BIN)/python -m navlab pipeline write
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/dvc repro
 
+# The whole suite, as CI runs it: unit and property tests, every notebook in `smoke`, the browser check,
+# `params check` over every profile, and `pipeline check` (dvc.lock describes the tree).
 test: setup
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest
+
+# For development: the same without the notebook runs and the browser (minutes, not a quarter hour).
+test-fast: setup
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest -m "not notebook and not browser"
 
 lab: setup
 	$(BIN)/python -m navlab lab
