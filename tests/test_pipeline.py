@@ -7,7 +7,7 @@ import yaml
 
 from navlab.pipeline.steps import artifact_steps
 from navlab.pipeline.notebooks import discover
-from navlab.pipeline.dvc_yaml import drifted
+from navlab.pipeline.dvc_yaml import drifted, stale_stages
 from navlab.pipeline.stages import stage_sources, uncovered
 
 STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
@@ -54,3 +54,11 @@ def test_generated_pipeline_files_are_current():
 def test_data_stage_builds_the_snapshot():
     assert STAGES["data"]["cmd"] == "python -m navlab data build"
     assert not Path("data.dvc").exists(), "data/ is recorded by the `data` stage in dvc.lock, not by data.dvc"
+
+
+def test_dvc_lock_describes_the_committed_tree():
+    """Every stage's recorded command, code, params and committed report match the tree (outputs merely
+    absent from the cache, as on a fresh clone, are fine): a report without the lock entry that made it
+    cannot land. Fix: `dvc repro`, then commit the reports with dvc.lock."""
+    stale = stale_stages(".")
+    assert not stale, "dvc.lock is stale:\n" + "\n".join(line[:300] for line in stale)
