@@ -27,9 +27,10 @@ repro: setup
 test: setup
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest
 
-# For development: the same without the notebook runs and the browser (minutes, not a quarter hour).
+# For development: the same without the notebook runs, the browser and the lock check (which fails after
+# any code change until `dvc repro` has run): minutes, not a quarter hour.
 test-fast: setup
-	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest -m "not notebook and not browser"
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/python -m pytest -m "not notebook and not browser and not provenance"
 
 lab: setup
 	$(BIN)/python -m navlab lab

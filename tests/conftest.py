@@ -17,17 +17,32 @@ def _in_checkout():
     os.chdir(ROOT)
 
 
-@pytest.fixture(autouse=True)
-def _torch_state_stays_in_its_test():
-    """A test (or the library code it calls: training sets its thread count) may change torch's global
-    state; restore it, so no test's numbers depend on which tests ran before it."""
+def _torch_baseline() -> tuple[int, bool, bool]:
     import torch
 
-    threads, deterministic = torch.get_num_threads(), torch.are_deterministic_algorithms_enabled()
+    return (torch.get_num_threads(), torch.are_deterministic_algorithms_enabled(),
+            torch.is_deterministic_algorithms_warn_only_enabled())
+
+
+TORCH_BASELINE = _torch_baseline()  # taken at collection, before any fixture trains a model
+
+
+@pytest.fixture(autouse=True)
+def _torch_state_is_the_baseline():
+    """Every test starts from the process's own torch state, and its RNG state is put back after it: the
+    library's training sets the thread count (in session fixtures too, which run before any function
+    fixture), and no test's numbers may depend on which tests ran before it."""
+    import torch
+
+    def reset():
+        threads, deterministic, warn_only = TORCH_BASELINE
+        torch.set_num_threads(threads)
+        torch.use_deterministic_algorithms(deterministic, warn_only=warn_only)
+
     rng = torch.get_rng_state()
+    reset()
     yield
-    torch.set_num_threads(threads)
-    torch.use_deterministic_algorithms(deterministic)
+    reset()
     torch.set_rng_state(rng)
 
 
@@ -39,8 +54,8 @@ def smoke_params():
 @pytest.fixture(scope="session")
 def smoke_data(tmp_path_factory, smoke_params) -> Path:
     """data/ built with the smoke profile into a temporary folder (downloads are cached)."""
-    from navlab.pipeline.steps import data_steps
     from navlab.pipeline import dataset
+    from navlab.pipeline.steps import data_steps
 
     return dataset.build(tmp_path_factory.mktemp("smoke") / "data", smoke_params, data_steps(), log=lambda m: None)
 

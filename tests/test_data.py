@@ -2,9 +2,9 @@
 
 import pytest
 
-from navlab.pipeline.steps import data_steps
 from navlab.core.io import DataError, require
 from navlab.pipeline import dataset, sources
+from navlab.pipeline.steps import data_steps
 
 
 def test_build_twice_gives_same_digest(smoke_data, smoke_params, tmp_path):

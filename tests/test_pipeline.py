@@ -5,10 +5,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from navlab.pipeline.steps import artifact_steps
+from navlab.pipeline.dvc_yaml import drifted, lock_disagreements, stale_stages
 from navlab.pipeline.notebooks import discover
-from navlab.pipeline.dvc_yaml import drifted, stale_stages
-from navlab.pipeline.stages import stage_sources, uncovered
+from navlab.pipeline.steps import artifact_steps
 
 STAGES = yaml.safe_load(Path("dvc.yaml").read_text(encoding="utf8"))["stages"]
 COMMANDS = {name: stage["cmd"] for name, stage in STAGES.items()}
@@ -40,13 +39,6 @@ def test_dvc_runs_offline():
     assert "analytics = false" in config and "check_update = false" in config
 
 
-@pytest.mark.parametrize("name", sorted(STAGES))
-def test_stage_deps_cover_every_module_it_runs(name):
-    stage = STAGES[name]
-    missing = uncovered(stage_sources(stage["cmd"], "."), stage.get("deps", []))
-    assert not missing, f"dvc.yaml stage {name!r}: add to its deps: {', '.join(missing)}"
-
-
 def test_generated_pipeline_files_are_current():
     assert not drifted("."), "dvc.yaml / params.resolved.yaml are stale: run `python -m navlab pipeline write`"
 
@@ -56,9 +48,43 @@ def test_data_stage_builds_the_snapshot():
     assert not Path("data.dvc").exists(), "data/ is recorded by the `data` stage in dvc.lock, not by data.dvc"
 
 
+@pytest.mark.provenance
 def test_dvc_lock_describes_the_committed_tree():
     """Every stage's recorded command, code, params and committed report match the tree (outputs merely
     absent from the cache, as on a fresh clone, are fine): a report without the lock entry that made it
     cannot land. Fix: `dvc repro`, then commit the reports with dvc.lock."""
     stale = stale_stages(".")
-    assert not stale, "dvc.lock is stale:\n" + "\n".join(line[:300] for line in stale)
+    assert not stale, "dvc.lock is stale:\n" + "\n".join(stale)
+
+
+def _lock_pair(tmp_path, upstream_md5: str, deps=("up", "lib/b.py")) -> Path:
+    """A two-stage dvc.yaml (``a`` makes ``up``, ``b`` reads it) and a dvc.lock recording ``b`` as made from
+    ``up`` with ``upstream_md5`` (``a`` recorded ``up`` as m1.dir)."""
+    (tmp_path / "dvc.yaml").write_text(yaml.safe_dump({"stages": {
+        "a": {"cmd": "make up", "deps": ["lib/a.py"], "outs": ["up"]},
+        "b": {"cmd": "make b", "deps": ["up", "lib/b.py"], "metrics": [{"reports/b.json": {"cache": False}}]},
+    }}))
+    (tmp_path / "dvc.lock").write_text(yaml.safe_dump({"schema": "2.0", "stages": {
+        "a": {"cmd": "make up", "deps": [{"path": "lib/a.py", "md5": "x"}], "outs": [{"path": "up", "md5": "m1.dir"}]},
+        "b": {"cmd": "make b", "deps": [{"path": p, "md5": upstream_md5 if p == "up" else "y"} for p in deps],
+              "outs": [{"path": "reports/b.json", "md5": "z"}]},
+    }}))
+    return tmp_path
+
+
+def test_a_consistent_lock_has_no_disagreements(tmp_path):
+    assert lock_disagreements(_lock_pair(tmp_path, "m1.dir")) == []
+
+
+def test_a_stage_made_from_an_older_upstream_output_is_stale(tmp_path):
+    """What `dvc status` cannot see on a fresh clone, where ``up`` does not exist to be hashed."""
+    assert lock_disagreements(_lock_pair(tmp_path, "m0.dir")) == ["b: made from another up than stage a recorded"]
+
+
+def test_a_dep_dropped_from_dvc_yaml_or_a_stage_never_run_is_stale(tmp_path):
+    root = _lock_pair(tmp_path, "m1.dir", deps=("up", "lib/b.py", "lib/gone.py"))
+    assert lock_disagreements(root) == ["b: dvc.lock records other deps than dvc.yaml declares"]
+    lock = yaml.safe_load((root / "dvc.lock").read_text())
+    del lock["stages"]["b"]
+    (root / "dvc.lock").write_text(yaml.safe_dump(lock))
+    assert lock_disagreements(root) == ["b: never recorded in dvc.lock"]

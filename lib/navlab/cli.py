@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import errno
 import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -143,14 +142,17 @@ def _pipeline_write(args) -> int:
 
 def _pipeline_check(args) -> int:
     """Exit 1 when dvc.yaml or params.resolved.yaml drifted from the code, or dvc.lock is stale."""
-    from navlab.pipeline.dvc_yaml import drifted, stale_stages
+    from navlab.pipeline.dvc_yaml import DvcStatusError, drifted, stale_stages
 
     root = repo_root()
     problems = [f"{name} differs from what the code writes; run `python -m navlab pipeline write`"
                 for name in drifted(root)]
     if not problems:  # dvc status reads dvc.yaml: only meaningful once it is current
-        problems = [f"stale in dvc.lock: {line}; regenerate with `dvc repro` and commit dvc.lock with the reports"
-                    for line in stale_stages(root)]
+        try:
+            problems = [f"stale in dvc.lock: {line}; regenerate with `dvc repro` and commit dvc.lock with the "
+                        "reports" for line in stale_stages(root)]
+        except DvcStatusError as e:
+            problems = [str(e)]
     for line in problems:
         print(line, file=sys.stderr)
     if not problems:
@@ -163,9 +165,11 @@ def _refuse_stale_resolved_params(args) -> None:
     params.resolved.yaml: refuse to run when the two disagree, so no stage runs on unrecorded values."""
     if not os.environ.get("DVC_STAGE") or args.group not in ("data", "artifacts", "notebook"):
         return
-    from navlab.pipeline.dvc_yaml import RESOLVED, drifted
+    from navlab.pipeline.dvc_yaml import RESOLVED, render_resolved_params
 
-    if RESOLVED in drifted(repo_root()):
+    root = repo_root()
+    resolved = root / RESOLVED
+    if not resolved.is_file() or resolved.read_text(encoding="utf8") != render_resolved_params(root):
         raise ParamsError(f"{RESOLVED} does not match params.yaml; run `python -m navlab pipeline write` "
                           "(`make repro` does) before `dvc repro`")
 

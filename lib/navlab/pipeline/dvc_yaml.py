@@ -204,40 +204,93 @@ def drifted(root: str | Path) -> list[str]:
             if not (Path(root) / name).is_file() or (Path(root) / name).read_text(encoding="utf8") != text]
 
 
-def stale_stages(root: str | Path) -> list[str]:
-    """One line per stage whose dvc.lock entry no longer describes the tree (``dvc status``).
+class DvcStatusError(RuntimeError):
+    """``dvc status`` itself failed (another dvc command holds the repo lock, a broken dvc.yaml): the lock's
+    state is unknown, which is not the same as stale."""
 
-    Counted: a changed command, a changed params value, a code or notebook dep that changed or
-    vanished, and a committed report (``cache: false`` metric) that differs from the locked one.
-    Not counted: outputs absent from the cache, and deps that are other stages' outputs and are
-    merely not built here (a fresh clone has no data/ or artifacts/).
+
+def stale_stages(root: str | Path) -> list[str]:
+    """One line per stage whose dvc.lock entry no longer describes the tree.
+
+    Counted (``dvc status``): a changed command, a changed params value, a code or notebook dep that changed
+    or vanished, and a committed report (``cache: false`` metric) that differs from the locked one. Not
+    counted: outputs absent from the cache, and deps that are other stages' outputs and are merely not
+    built here (a fresh clone has no data/ or artifacts/). Because a fresh clone cannot hash those, the
+    lock is also checked against itself (``lock_disagreements``): a stage whose recorded input is not the
+    output its producer recorded was made from an older upstream result.
     """
     root = Path(root)
     run = subprocess.run([sys.executable, "-m", "dvc", "status", "--json"], cwd=root, capture_output=True,
                          text=True, check=False)
     if run.returncode != 0:
-        return [f"dvc status failed: {run.stderr.strip().splitlines()[-1] if run.stderr.strip() else run.returncode}"]
+        last = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit {run.returncode}"
+        raise DvcStatusError(f"`dvc status` failed, so dvc.lock could not be checked: {last}")
     built = {o for s in all_stages() for o in (*s.outs,)}
     committed = {m for s in all_stages() for m in s.metrics} | {"reports/README.md"}
     lines = []
     for name, changes in sorted(json.loads(run.stdout or "{}").items()):
-        why = []
+        why = Why()
         for change in changes:
-            if change == "changed command" or change == "always changed":
-                why.append(change)
-                continue
             if not isinstance(change, dict):
-                why.append(str(change))
+                why.other.append(str(change))  # "changed command", "always changed"
                 continue
             for path, state in change.get("changed deps", {}).items():
                 if isinstance(state, dict):  # a params file: {key: modified/new/deleted}
-                    why += [f"param {k} {v}" for k, v in state.items()]
+                    why.params += [f"{k} {v}" for k, v in state.items()]
                 elif not (state in ("deleted", "not in cache") and any(path == o or path.startswith(o + "/")
                                                                       for o in built)):
-                    why.append(f"{path} {state}")
+                    (why.code if path.startswith(("lib/", "notebooks/")) else why.inputs).append(f"{path} {state}")
             for path, state in change.get("changed outs", {}).items():
                 if path in committed and state != "not in cache":
-                    why.append(f"{path} {state}")
+                    why.reports.append(f"{path} {state}")
         if why:
-            lines.append(f"{name}: {', '.join(why)}")
+            lines.append(f"{name}: {why}")
+    return lines + lock_disagreements(root)
+
+
+@dataclasses.dataclass
+class Why:
+    """What ``dvc status`` found changed in one stage, most telling first when printed."""
+
+    other: list[str] = dataclasses.field(default_factory=list)
+    params: list[str] = dataclasses.field(default_factory=list)
+    reports: list[str] = dataclasses.field(default_factory=list)
+    inputs: list[str] = dataclasses.field(default_factory=list)
+    code: list[str] = dataclasses.field(default_factory=list)
+
+    def __bool__(self) -> bool:
+        return any((self.other, self.params, self.reports, self.inputs, self.code))
+
+    def __str__(self) -> str:
+        parts = [*self.other]
+        parts += [f"params {', '.join(self.params)}"] if self.params else []
+        parts += [f"reports {', '.join(self.reports)}"] if self.reports else []
+        parts += [f"inputs {', '.join(self.inputs)}"] if self.inputs else []
+        parts += [f"{len(self.code)} code deps changed (first: {self.code[0]})"] if self.code else []
+        return "; ".join(parts)
+
+
+def lock_disagreements(root: str | Path) -> list[str]:
+    """Stages whose dvc.lock entry does not match dvc.yaml's declaration (another set of deps or outs, or
+    no entry at all), and stages whose recorded input differs from the output its producing stage recorded:
+    what ``dvc status`` cannot see on a fresh clone, where no stage output exists to hash."""
+    root = Path(root)
+    declared = yaml.safe_load((root / "dvc.yaml").read_text(encoding="utf8"))["stages"]
+    lock_file = root / "dvc.lock"
+    locked = yaml.safe_load(lock_file.read_text(encoding="utf8")).get("stages", {}) if lock_file.is_file() else {}
+    produced = {o["path"]: (name, o.get("md5")) for name, s in locked.items() for o in s.get("outs", [])}
+    lines = []
+    for name, stage in declared.items():
+        if name not in locked:
+            lines.append(f"{name}: never recorded in dvc.lock")
+            continue
+        paths = lambda entries: {next(iter(e)) if isinstance(e, dict) else e for e in entries}
+        if paths(stage.get("deps", [])) != {d["path"] for d in locked[name].get("deps", [])}:
+            lines.append(f"{name}: dvc.lock records other deps than dvc.yaml declares")
+        if paths([*stage.get("outs", []), *stage.get("metrics", [])]) != {o["path"] for o in locked[name].get("outs", [])}:
+            lines.append(f"{name}: dvc.lock records other outs than dvc.yaml declares")
+        for dep in locked[name].get("deps", []):
+            producer, md5 = produced.get(dep["path"], (None, None))
+            if producer and dep.get("md5") != md5:
+                lines.append(f"{name}: made from another {dep['path']} than stage {producer} recorded")
     return lines

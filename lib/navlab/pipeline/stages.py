@@ -66,9 +66,3 @@ def stage_sources(cmd: str, root: str | Path) -> list[str]:
     root = Path(root).resolve()
     modules = imported_modules(*entry_modules(cmd, root), lib=root / "lib")
     return sorted(path.resolve().relative_to(root).as_posix() for path in modules.values())
-
-
-def uncovered(sources: list[str], deps: list[str]) -> list[str]:
-    """The sources that no dep names, as a file or as a folder above it."""
-    deps = [d.rstrip("/") for d in deps]
-    return [s for s in sources if not any(s == d or s.startswith(d + "/") for d in deps)]
