@@ -7,7 +7,7 @@ import pytest
 
 from navlab.core.io import DataError
 from navlab.reach.grid import Grid
-from navlab.reach.store import is_current, load_grid, save_grid, sidecar_path
+from navlab.reach.store import grid_to_dict, is_current, load_grid, save_grid, sidecar_path
 
 GRID = Grid((-1.0, -1.0, 0.0), (1.0, 1.0, 2 * np.pi), (5, 4, 6), (False, False, True))
 INPUTS = {"kind": "test", "robot": {"v_max": 1.0}, "solver": {"scheme": "weno5", "cfl": 0.75}}
@@ -78,3 +78,18 @@ def test_sidecar_is_plain_json_with_checksum(stored):
     meta = json.loads(sidecar_path(path).read_text())
     assert len(meta["sha256"]) == 64 and meta["nbytes"] == path.stat().st_size
     assert meta["grid"]["shape"] == [5, 4, 6] and meta["grid"]["periodic"] == [False, False, True]
+
+
+@pytest.mark.parametrize("edit", [("lo", [-1.0, -0.9, 0.0]), ("shape", [4, 5, 6]), ("periodic", [False, True, True])])
+def test_edited_sidecar_grid_is_stale(tmp_path, edit):
+    """The inputs (and their hash) record the grid, but the loader places the values on the sidecar's own
+    ``grid``: an edited one must not load on shifted coordinates while the hash still matches."""
+    inputs = {**INPUTS, "grid": grid_to_dict(GRID)}
+    path = save_grid(tmp_path / "v.npy", np.zeros(GRID.shape, np.float32), GRID, inputs)
+    meta = json.loads(sidecar_path(path).read_text())
+    meta["grid"][edit[0]] = edit[1]
+    sidecar_path(path).write_text(json.dumps(meta))
+    assert not is_current(path, inputs)  # so `dvc repro hj_grids` rebuilds it
+    for expected in (inputs, None):  # checked against the caller's inputs, else the recorded ones
+        with pytest.raises(DataError, match=rf"stale: its sidecar's grid \(grid\.{edit[0]}\).*dvc repro hj_grids"):
+            load_grid(path, expected)

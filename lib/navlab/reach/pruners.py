@@ -18,6 +18,8 @@ expansion (the paper's Table VII: 140 states per call) and drops a successor whe
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,6 +44,11 @@ class FIParams:
     w_dist: float = 0.5
     d_threshold: float = 0.5  # Eq. 17, m
 
+    def __post_init__(self):
+        bad = [f.name for f in dataclasses.fields(self) if not math.isfinite(getattr(self, f.name))]
+        if bad or self.dt <= 0:  # a NaN margin or γ compares false: every step would pass as safe
+            raise ValueError(f"FIParams {', '.join(bad) or 'dt'}: must be finite numbers (dt > 0); got {self}")
+
 
 def clearance_field(room: Room, resolution: float = 0.02) -> GridField:
     """Signed distance to walls ∪ obstacles on raster nodes covering the room, [i_x, i_y]."""
@@ -52,12 +59,15 @@ def clearance_field(room: Room, resolution: float = 0.02) -> GridField:
 
 
 def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
+    if not (math.isfinite(robot_radius) and robot_radius >= 0):  # NaN: clearance - NaN <= 0 is never true
+        raise ValueError(f"OBS robot_radius {robot_radius}: must be a finite number >= 0 (metres)")
     return StaticPruner(S_OBS, clearance_field(room, resolution), np.array([robot_radius, -1.0]), "OBS")
 
 
 def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:
-    if margin < 0:
-        raise ValueError(f"static BRT margin {margin} < 0 would let unsafe states through; use >= 0")
+    if not (math.isfinite(margin) and margin >= 0):  # NaN: V <= NaN is never true, nothing would be pruned
+        raise ValueError(f"static BRT margin {margin}: a negative or NaN margin lets unsafe states through; "
+                         f"use a finite margin >= 0")
     return StaticPruner(S_BRT, grid_field(lookup.stored.values, lookup.grid),
                         np.array([margin, lookup.unsafe_value]), "BRT")
 

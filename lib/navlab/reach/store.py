@@ -72,11 +72,16 @@ def save_grid(path: str | Path, values: np.ndarray, grid: Grid, inputs: dict[str
         "nbytes": nbytes,
         "dtype": str(values.dtype),
         "grid": grid_to_dict(grid),
-        "inputs": json.loads(json.dumps(inputs, default=str)),
+        "inputs": _json(inputs),
         "inputs_hash": sha256_json(inputs),
         "info": info or {},
     })
     return path
+
+
+def _json(tree: Any) -> Any:
+    """``tree`` as its JSON round trip (tuples become lists), the form a sidecar stores."""
+    return json.loads(json.dumps(tree, default=str))
 
 
 def read_meta(path: str | Path) -> dict[str, Any]:
@@ -103,6 +108,17 @@ def stale_keys(stored: Any, expected: Any, prefix: str = "") -> list[str]:
     return [] if stored == expected else [prefix or "(root)"]
 
 
+def _grid_changes(meta: dict[str, Any], json_inputs: dict[str, Any] | None) -> list[str]:
+    """Where the sidecar's ``grid`` differs from the grid its inputs (the caller's, else the recorded ones)
+    name, as dotted keys ([] when they agree or the inputs name no grid).
+
+    Why: the inputs hash covers ``inputs.grid`` but a loader builds the grid from the sidecar's own ``grid``;
+    an edited one put every value on shifted coordinates while the hash still matched."""
+    source = meta["inputs"] if json_inputs is None else json_inputs
+    expected = source.get("grid") if isinstance(source, dict) else None
+    return [] if expected is None else stale_keys(meta["grid"], expected, "grid")
+
+
 def is_current(path: str | Path, inputs: dict[str, Any]) -> bool:
     """True when an intact file built from exactly ``inputs`` (code fingerprint included) exists.
 
@@ -113,8 +129,8 @@ def is_current(path: str | Path, inputs: dict[str, Any]) -> bool:
         meta = read_meta(path)
     except DataError:
         return False
-    return (meta["inputs_hash"] == sha256_json(inputs) and Path(path).stat().st_size == meta["nbytes"]
-            and sha256_file(path) == meta["sha256"])
+    return (meta["inputs_hash"] == sha256_json(inputs) and not _grid_changes(meta, _json(inputs))
+            and Path(path).stat().st_size == meta["nbytes"] and sha256_file(path) == meta["sha256"])
 
 
 def load_grid(path: str | Path, inputs: dict[str, Any] | None = None, verify: bool = True) -> StoredGrid:
@@ -126,11 +142,15 @@ def load_grid(path: str | Path, inputs: dict[str, Any] | None = None, verify: bo
     """
     path = Path(path)
     meta = read_meta(path)
-    json_inputs = json.loads(json.dumps(inputs, default=str)) if inputs is not None else None
+    json_inputs = _json(inputs) if inputs is not None else None
     if json_inputs is not None and meta["inputs_hash"] != sha256_json(inputs):
         changed = stale_keys(meta["inputs"], json_inputs) or ["(inputs)"]
         raise DataError(f"{path} is stale: built with different {', '.join(changed[:5])} than params.yaml "
                         f"asks for; {REBUILD}")
+    changed = _grid_changes(meta, json_inputs)
+    if changed:
+        raise DataError(f"{path} is stale: its sidecar's grid ({', '.join(changed)}) is not the grid it was "
+                        f"built for; {REBUILD}")
     size = path.stat().st_size
     if size != meta["nbytes"]:
         raise DataError(f"{path} is truncated or padded ({size} bytes, expected {meta['nbytes']}); {REBUILD}")

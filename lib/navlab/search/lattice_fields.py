@@ -98,10 +98,8 @@ def _axis(lo, inv, n, per, stride, x):
     if per:
         i0 = math.floor(x)
         fr = x - i0
-        while i0 >= n:  # no integer modulo: it carries a zero-division check into the hot loop
-            i0 -= n
-        while i0 < 0:
-            i0 += n
+        if i0 >= n or i0 < 0:  # off the first period: the modulo (and its zero-division check) only here,
+            i0 %= n  # where no loop can run away (a NaN or inf floors to INT64_MIN: a loop ran ~10^18 times)
         i1 = i0 + 1 if i0 + 1 < n else 0
     else:
         x = min(max(x, 0.0), n - 1.0)

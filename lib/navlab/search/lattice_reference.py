@@ -29,6 +29,9 @@ def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float,
     """
     if spec.snap_states:
         raise ValueError("astar_reference follows the continuous-state lattice; use snap_states=False")
+    start = np.asarray(start, np.float64)
+    if start.shape != (4,) or not np.isfinite(start).all():  # as lattice_search.search
+        raise ValueError(f"start must be a finite (x, y, v, θ), got {start!r}")
     table = primitive_table(spec)
     (_, x1), (_, y1) = bounds
     bin_w = 2 * math.pi / spec.heading_bins
@@ -37,7 +40,6 @@ def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float,
         return (math.floor(s[0] / spec.cell_m), math.floor(s[1] / spec.cell_m), round(s[2] / spec.dv),
                 round(s[3] / bin_w) % spec.heading_bins)
 
-    start = np.asarray(start, np.float64)
     c0 = cell(start)
     g = {c0: 0.0}
     state = {c0: start}

@@ -84,9 +84,27 @@ class StaticPruner:
         """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
         return static_value_batch(self.kind, self.field, self.par, _states(states))
 
+    def goal_clearance(self, goal: Goal) -> float:
+        """An upper bound on ``values`` over every state a goal node can hold (any speed and heading, any
+        position within the goal tolerance): the largest node value of the field cells that the goal's
+        bounding box meets (a multilinear interpolant never exceeds its cell's corners), and the value off
+        the grid where the box leaves it. <= 0: every such state is pruned, so no search can reach the goal."""
+        f, centre = self.field, np.asarray(goal.xy, np.float64)
+        reach = goal.tolerance + 1e-6  # m: the goal test's rounding
+        inv, n = f.inv_spacing[:2], f.shape[:2]
+        lo, hi = f.lo[:2], f.lo[:2] + (n - 1) / inv
+        off_grid = (centre - reach < lo).any() or (centre + reach > hi).any()
+        i0 = np.clip(np.floor((centre - reach - lo) * inv), 0, n - 2).astype(np.int64)
+        i1 = np.clip(np.ceil((centre + reach - lo) * inv), i0 + 1, n - 1).astype(np.int64)
+        block = np.asarray(f.values).reshape(tuple(f.shape))[i0[0]:i1[0] + 1, i0[1]:i1[1] + 1]
+        bound = max(float(block.max()), float(self.par[1])) if off_grid else float(block.max())
+        return bound - float(self.par[0])
+
     def with_threshold(self, threshold: float) -> StaticPruner:
         """The same pruner pruning at ``threshold`` instead of ``par[0]``; it shares the cell minima (they do
         not depend on the threshold, and re-deriving them costs a pass over the whole grid per call)."""
+        if not math.isfinite(threshold):
+            raise ValueError(f"pruner threshold {threshold}: must be a finite number (a NaN prunes nothing)")
         twin = copy.copy(self)
         object.__setattr__(twin, "par", np.array([threshold, self.par[1]]))
         return twin
@@ -100,30 +118,55 @@ class HumanPruner:
     humans: np.ndarray  # (H, 4) observed x, y, vx, vy (lattice_fields.human_prunes predicts with them)
     name: str = ""
 
+    def __post_init__(self):
+        humans = np.asarray(self.humans, np.float64)
+        if humans.ndim != 2 or humans.shape[1] != 4:
+            raise ValueError(f"humans must be (H, 4) (x, y, vx, vy), got {humans.shape}")
+        require_finite(humans, "humans (x, y, vx, vy)", "drop the humans whose track was lost or fix their estimate")
+
     def __call__(self, parents: np.ndarray, samples: np.ndarray, t0: np.ndarray | None = None,
                  durations: np.ndarray | None = None) -> np.ndarray:
         """parents (N, 4), segment samples (N, S, 4) -> (N,) True where a human makes the step unsafe.
         ``t0``/``durations`` (N,): each parent's time after the observation and its segment's length (default
         0: the humans where they were seen)."""
+        parents, samples = _states(parents, "parents"), _segments(samples)
         n = len(parents)
-        t0 = np.zeros(n) if t0 is None else np.asarray(t0, np.float64)
-        durations = np.zeros(n) if durations is None else np.asarray(durations, np.float64)
+        if len(samples) != n:  # the compiled loop reads parents[i] for every segment i, unchecked
+            raise ValueError(f"{n} parents for {len(samples)} segments: give each segment its parent state")
+        t0 = np.zeros(n) if t0 is None else _times(t0, n, "t0")
+        durations = np.zeros(n) if durations is None else _times(durations, n, "durations")
         return human_prune_batch(self.kind, self.field, self.par, np.ascontiguousarray(self.humans, np.float64),
-                                 _states(parents), _segments(samples), t0, durations)
+                                 parents, samples, t0, durations)
 
 
-def _states(states) -> np.ndarray:
+def require_finite(array: np.ndarray, name: str, fix: str) -> np.ndarray:
+    """``array`` itself, or a ValueError naming ``name``: a NaN compares false with every threshold, so a
+    pruner would call its state safe (and a NaN heading once hung the compiled look-up)."""
+    if not np.isfinite(array).all():
+        first = tuple(int(i) for i in np.argwhere(~np.isfinite(array))[0])
+        raise ValueError(f"{name} holds NaN or inf (first at index {first}); {fix}")
+    return array
+
+
+def _states(states, name: str = "states") -> np.ndarray:
     states = np.ascontiguousarray(states, dtype=np.float64)
     if states.ndim != 2 or states.shape[1] != 4:
-        raise ValueError(f"states must be (N, 4) (x, y, v, θ), got {states.shape}")
-    return states
+        raise ValueError(f"{name} must be (N, 4) (x, y, v, θ), got {states.shape}")
+    return require_finite(states, name, "pass finite states (check the simulator or planner that made them)")
 
 
 def _segments(samples) -> np.ndarray:
     samples = np.ascontiguousarray(samples, dtype=np.float64)
     if samples.ndim != 3 or samples.shape[2] != 4:
         raise ValueError(f"segment samples must be (N, S, 4) (x, y, v, θ), got {samples.shape}")
-    return samples
+    return require_finite(samples, "segment samples", "pass finite states (check the planner that made them)")
+
+
+def _times(times, n: int, name: str) -> np.ndarray:
+    times = np.asarray(times, np.float64)
+    if times.shape != (n,):
+        raise ValueError(f"{name} must hold one time per parent ({n},), got {times.shape}")
+    return require_finite(times, name, "pass finite times in seconds")
 
 
 NO_STATIC = StaticPruner(S_NONE, GridField.empty(2), np.zeros(2), "none")
@@ -136,13 +179,31 @@ class Goal:
     tolerance: float  # m: reached when |p - goal| <= tolerance ...
     max_speed: float  # ... and v <= max_speed (the paper's speed limit at the goal)
 
+    def __post_init__(self):
+        if len(self.xy) != 2 or not all(math.isfinite(c) for c in self.xy):
+            raise ValueError(f"goal xy {self.xy}: must be two finite numbers (x, y) in metres")
+        for name in ("tolerance", "max_speed"):  # the search squares the tolerance: -0.3 acted as 0.3
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"goal {name} {value}: must be a finite number >= 0; fix the goal's {name}")
+
 
 @dataclass(frozen=True)
 class Costmap:
-    """Step cost dt · (1 + weight · c(x, y)); ``field`` a 2D raster of c >= 0 (None: pure time)."""
+    """Step cost dt · (1 + weight · c(x, y)); ``field`` a 2D raster of c >= 0 (None: pure time).
+
+    Both are checked: a negative or NaN step cost breaks A* (one search returned a plan of cost −46)."""
 
     field: GridField | None = None
     weight: float = 0.0
+
+    def __post_init__(self):
+        if not (math.isfinite(self.weight) and self.weight >= 0):
+            raise ValueError(f"costmap weight {self.weight}: must be a finite number >= 0 (0: pure time)")
+        values = None if self.field is None else np.asarray(self.field.values)
+        if values is not None and not (np.isfinite(values).all() and values.min() >= 0):
+            raise ValueError(f"costmap field: every cell cost must be finite and >= 0, found min {values.min()}, "
+                             f"max {values.max()}; rebuild the cost raster (reach.planning.costmap_field)")
 
 
 @dataclass
@@ -413,6 +474,8 @@ def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
     (x0, x1), (y0, y1) = bounds
     if x0 != 0.0 or y0 != 0.0:
         raise ValueError(f"lattice bounds must start at the origin (rooms do); got {bounds}")
+    if not (math.isfinite(x1) and math.isfinite(y1) and x1 > 0 and y1 > 0):
+        raise ValueError(f"lattice bounds must end at a finite width and height > 0 (the room's); got {bounds}")
     return np.array([math.ceil(x1 / spec.cell_m), math.ceil(y1 / spec.cell_m), spec.speed_levels,
                      spec.heading_bins], np.int64)
 
@@ -466,6 +529,11 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
         if clearance <= 0.0:
             raise ValueError(f"start {tuple(start.round(3))} is already pruned by the {static.name or 'static'} "
                              f"pruner (value {clearance:.3f} <= 0: in collision or inside the BRT); move the start")
+        clearance = static.goal_clearance(goal)
+        if clearance + 1e-9 <= 0.0:  # 1e-9: an interpolant may round above its corners' maximum
+            raise ValueError(f"goal {goal.xy} (tolerance {goal.tolerance} m) is wholly pruned by the "
+                             f"{static.name or 'static'} pruner (value <= {clearance:.3f} at every state within "
+                             f"it: in collision or inside the BRT), so no search can reach it; move the goal")
     if spec.snap_states:
         from navlab.search.dubins_lattice import snap
 

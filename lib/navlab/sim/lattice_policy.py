@@ -74,10 +74,22 @@ from navlab.reach.lookup import HumanBRTLookup
 from navlab.reach.pruners import FIParams, clearance_field, human_pruner
 from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, place, primitive_table
 from navlab.search.lattice_fields import GridField
-from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, search
+from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, require_finite, search
 from navlab.sim.receding_horizon import Evasion
 
 HUMAN_MODES = ("fi", "fs", "obs", "none")
+
+
+@dataclass(frozen=True)
+class _WithHumans(StaticPruner):
+    """The OBS pruner with the humans' discs in its field (``"obs"``). Its goal is checked against the map
+    alone (``base``): a human standing on the goal walks on, and until then the search fails and the car
+    brakes, as before; ``search`` refusing the goal would end the run."""
+
+    base: StaticPruner = field(kw_only=True)
+
+    def goal_clearance(self, goal: Goal) -> float:
+        return self.base.goal_clearance(goal)
 
 
 @dataclass
@@ -136,11 +148,13 @@ class LatticePolicy:
         x, y = self._points
         gap = np.min([np.hypot(x - hx, y - hy) - self.human_radius for hx, hy in humans], axis=0)
         values = np.minimum(self._clearance.values, gap.reshape(-1).astype(self._clearance.values.dtype))
-        return StaticPruner(self.static.kind, self._clearance._replace(values=values), self.static.par, "OBS")
+        return _WithHumans(self.static.kind, self._clearance._replace(values=values), self.static.par, "OBS",
+                           base=self.static)
 
     def __call__(self, observation) -> np.ndarray | Evasion | None:
-        state = np.asarray(observation.robot, dtype=float).copy()
-        humans = np.asarray(observation.humans, dtype=float).reshape(-1, 2)
+        fix = "the simulator or tracker must hand the policy finite observations"
+        state = require_finite(np.asarray(observation.robot, dtype=float).copy(), "observation.robot", fix)
+        humans = require_finite(np.asarray(observation.humans, dtype=float).reshape(-1, 2), "observation.humans", fix)
         static = self._static_for(humans)
         (x0, x1), (y0, y1) = self.room.bounds
         if not (x0 <= state[0] < x1 and y0 <= state[1] < y1):
