@@ -59,7 +59,8 @@ def _artifact(name: str, params: tuple[str, ...], inputs: tuple[str, ...], outs:
 
 
 _PACER_TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch", "pacer.train.val_examples",
-                "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction", "pacer.train.patience")
+                "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction", "pacer.train.patience",
+                "pacer.train.device", "pacer.train.threads")  # float results follow the device and thread count
 _SURENAV_RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.train", "surenav.planner")
 _HJ_SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
@@ -69,13 +70,13 @@ _FIG = "reports/{}/figures/"
 
 STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
-    _notebook("quickstart", "notebooks/00_quickstart.ipynb", ("quickstart",), ("data",),
+    _notebook("quickstart", "notebooks/00_quickstart.ipynb", ("seed", "quickstart"), ("data",),
               ("reports/quickstart/figures",), ("reports/quickstart/quickstart_astar.json",)),
     _artifact("pacer_phase1", (*_PACER_TRAIN, "pacer.train.epochs.phase1"), ("data",), ("artifacts/pacer/phase1",),
               persist=True),
-    _artifact("pacer_phase2", (*_PACER_TRAIN, "pacer.train.epochs.phase2"), ("data", "artifacts/pacer/phase1/model.pt"),
+    _artifact("pacer_phase2", (*_PACER_TRAIN, "pacer.train.epochs.phase2"), ("data", "artifacts/pacer/phase1"),
               ("artifacts/pacer/phase2",), persist=True),
-    _artifact("pacer_phase3", (*_PACER_TRAIN, "pacer.train.epochs.phase3"), ("data", "artifacts/pacer/phase2/model.pt"),
+    _artifact("pacer_phase3", (*_PACER_TRAIN, "pacer.train.epochs.phase3"), ("data", "artifacts/pacer/phase2"),
               ("artifacts/pacer/phase3",), persist=True),
     _artifact("pacer_sterling", ("pacer.seed", "pacer.data", "pacer.train.device", "pacer.baselines.patch_size",
                                  "pacer.baselines.sterling"), ("data",), ("artifacts/pacer/sterling",)),
