@@ -53,8 +53,8 @@ def test_data_stage_builds_the_snapshot():
 KNOWN_STALE = {
     "surenav_02_safety_efficiency": "Fig. 4's 2,700 episode runs take ~3 h on 2 cores (GNN inference per "
                                     "re-plan, two threads per worker process); not regenerated since fa51aee",
-    "surenav_01_human_likeness": "Table I was regenerated (and locked) by dvc repro on 2026-11-25, but the "
-                                 "report was then overwritten by fa51aee's, and its rerun did not fit the session",
+    "surenav_01_human_likeness": "Table I's report is fa51aee's: it was regenerated on 2026-11-25, then "
+                                 "overwritten by mistake, and its rerun did not fit the session (lock entry dropped)",
 }
 
 
