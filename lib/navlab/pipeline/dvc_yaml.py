@@ -271,6 +271,11 @@ class Why:
         return "; ".join(parts)
 
 
+def _paths(entries: list) -> set[str]:
+    """The paths of dvc.yaml deps/outs entries (a plain path, or ``{path: options}``)."""
+    return {next(iter(e)) if isinstance(e, dict) else e for e in entries}
+
+
 def lock_disagreements(root: str | Path) -> list[str]:
     """Stages whose dvc.lock entry does not match dvc.yaml's declaration (another set of deps or outs, or
     no entry at all), and stages whose recorded input differs from the output its producing stage recorded:
@@ -285,10 +290,9 @@ def lock_disagreements(root: str | Path) -> list[str]:
         if name not in locked:
             lines.append(f"{name}: never recorded in dvc.lock")
             continue
-        paths = lambda entries: {next(iter(e)) if isinstance(e, dict) else e for e in entries}
-        if paths(stage.get("deps", [])) != {d["path"] for d in locked[name].get("deps", [])}:
+        if _paths(stage.get("deps", [])) != {d["path"] for d in locked[name].get("deps", [])}:
             lines.append(f"{name}: dvc.lock records other deps than dvc.yaml declares")
-        if paths([*stage.get("outs", []), *stage.get("metrics", [])]) != {o["path"] for o in locked[name].get("outs", [])}:
+        if _paths([*stage.get("outs", []), *stage.get("metrics", [])]) != {o["path"] for o in locked[name].get("outs", [])}:
             lines.append(f"{name}: dvc.lock records other outs than dvc.yaml declares")
         for dep in locked[name].get("deps", []):
             producer, md5 = produced.get(dep["path"], (None, None))
