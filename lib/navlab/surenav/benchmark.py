@@ -15,6 +15,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
+import torch
 from tqdm import tqdm
 
 from navlab.core.params.surenav import SuReNavParams
@@ -209,12 +210,20 @@ def _run_one(task) -> Outcome:
     return run_episode(env, method, policy, settings, graph, risk_table(settings.unit_risk), superpixels)
 
 
+def _one_thread() -> None:
+    """One torch thread per episode process. With torch's default (a thread per core) in every worker,
+    the workers' OpenMP threads spin against each other: on 2 cores Fig. 4 ran 15x slower with 2 workers
+    than with one thread each (``benchmarks/surenav_workers.py``). The sequential path uses one thread
+    too, so the outcomes' float rounding does not depend on ``workers``."""
+    torch.set_num_threads(1)
+
+
 def run_all(envs: list[Environment], methods, learned: Learned, settings: BenchmarkParams, graph: GraphParams,
             data_dir: str | Path | None = None, progress: bool = True) -> list[Outcome]:
     """Every method on every environment, in (environment, method) order, on ``settings.workers``
-    processes (episodes are independent and deterministic, so the outcomes do not depend on it).
-    ``data_dir`` is needed for the human-likeness set: the stored superpixels of the test maps that
-    the demonstrations' relaxed regions refer to."""
+    processes (episodes are independent and deterministic, and every process runs torch on one thread,
+    so the outcomes do not depend on it). ``data_dir`` is needed for the human-likeness set: the stored
+    superpixels of the test maps that the demonstrations' relaxed regions refer to."""
     stored = {}
     if any(e.demonstration is not None for e in envs):
         stored = {md.map_name: md.superpixels for md in load_demos(data_dir, "test")}
@@ -224,8 +233,13 @@ def run_all(envs: list[Environment], methods, learned: Learned, settings: Benchm
         tasks += [(env, method, learned, settings, graph, superpixels) for method in methods]
     bar = {"total": len(tasks), "desc": "episodes x methods", "unit": "run", "disable": not progress}
     if settings.workers == 1:
-        return [_run_one(t) for t in tqdm(tasks, **bar)]
-    with ProcessPoolExecutor(settings.workers, mp_context=get_context("fork")) as pool:
+        threads = torch.get_num_threads()
+        _one_thread()
+        try:
+            return [_run_one(t) for t in tqdm(tasks, **bar)]
+        finally:
+            torch.set_num_threads(threads)
+    with ProcessPoolExecutor(settings.workers, mp_context=get_context("fork"), initializer=_one_thread) as pool:
         return list(tqdm(pool.map(_run_one, tasks, chunksize=2), **bar))
 
 
