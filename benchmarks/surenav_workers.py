@@ -17,6 +17,7 @@ from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 
 import numpy as np
+
 from navlab.core.params import load_params
 from navlab.metrics.navigation import risk_table
 from navlab.surenav.benchmark import Learned, benchmark_runs, make_policy, run_all, run_episode
