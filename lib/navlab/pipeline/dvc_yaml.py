@@ -67,6 +67,7 @@ _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
 _PACER_NB = ("pacer",)
 _GPS = ("artifacts/surenav/gps", "artifacts/surenav/mpnn")
 _FIG = "reports/{}/figures/"
+_MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
 
 STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
@@ -113,22 +114,24 @@ STAGES: tuple[Stage, ...] = (
               (_FIG.format("surenav") + "04_training_curves.png", _FIG.format("surenav") + "fig6_learned_costs.png"),
               ("reports/surenav/estimator_relaxation_iou.json",)),
     _artifact("hj_grids", ("hj.grids",), (), ("artifacts/hj",), persist=True),
+    _artifact("hj_margins", ("hj.grids", "hj.planner.brt_margin_refine"), ("artifacts/hj",), (_MARGINS,),
+              persist=True),
     _notebook("hj_value_functions", "notebooks/hj/00_value_functions.ipynb", ("hj.grids",), ("artifacts/hj",),
               (_FIG.format("hj") + "value_functions", "reports/hj/value_functions_scene.html")),
-    _notebook("hj_heuristics", "notebooks/hj/01_heuristics.ipynb", _HJ_SEARCH, ("artifacts/hj",),
+    _notebook("hj_heuristics", "notebooks/hj/01_heuristics.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               (_FIG.format("hj") + "fig6_anastar_ttr.png",),
               ("reports/hj/table1_heuristics_astar.json", "reports/hj/table2_heuristics_anastar.json")),
-    _notebook("hj_pruning", "notebooks/hj/02_pruning.ipynb", _HJ_SEARCH, ("artifacts/hj",),
+    _notebook("hj_pruning", "notebooks/hj/02_pruning.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               (_FIG.format("hj") + "fig7_obs_vs_brt.png",),
               ("reports/hj/table3_pruning_astar.json", "reports/hj/table4_pruning_anastar.json",
                "reports/hj/table5_static_general.json")),
-    _notebook("hj_dynamic", "notebooks/hj/03_dynamic.ipynb", _HJ_LOOP, ("artifacts/hj",),
+    _notebook("hj_dynamic", "notebooks/hj/03_dynamic.ipynb", _HJ_LOOP, ("artifacts/hj", _MARGINS),
               (_FIG.format("hj") + "fig8_face_to_face.png",), ("reports/hj/table6_dynamic.json",)),
-    _notebook("hj_rooms", "notebooks/hj/04_rooms.ipynb", _HJ_LOOP, ("artifacts/hj",),
+    _notebook("hj_rooms", "notebooks/hj/04_rooms.ipynb", _HJ_LOOP, ("artifacts/hj", _MARGINS),
               (_FIG.format("hj") + "fig10_dense_snapshots.png", _FIG.format("hj") + "patrol_fi_brt.gif",
                "reports/hj/patrol_fi_brt_scene.html"),
               ("reports/hj/table8_rooms.json", "reports/hj/table9_humans.json")),
-    _notebook("hj_compute", "notebooks/hj/05_compute.ipynb", _HJ_SEARCH, ("artifacts/hj",),
+    _notebook("hj_compute", "notebooks/hj/05_compute.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               metrics=("reports/hj/table7_compute.json",)),
 )
 

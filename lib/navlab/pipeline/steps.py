@@ -23,12 +23,14 @@ def artifact_steps():
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
+    from navlab.reach.brt_margin import build_brt_margins
     from navlab.reach.precompute import build_hj_grids
     from navlab.surenav.artifacts import artifact_steps as surenav_steps
     from navlab.surenav.episodes import build_episodes
 
     return [
         ("hj_grids", build_hj_grids),
+        ("hj_margins", build_brt_margins),  # reads hj_grids' static BRTs
         ("surenav_episodes", build_episodes),
         *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
         *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)

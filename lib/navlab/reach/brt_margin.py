@@ -10,8 +10,9 @@ compared with the stored grid's multilinear interpolant there (the value the pru
 pruner is tested equal to this numpy look-up, ``reach.pruners.static_prune_reference``). The numpy
 look-up keeps the cached margin independent of the search code: editing the planner does not re-solve.
 
-The result is cached as JSON beside the grids, keyed on the grid's inputs, the factors and the source of
-the modules that compute it.
+The result is cached as JSON under ``artifacts/hj_margins`` (the ``hj_margins`` stage's output, built after
+``hj_grids``, so the search stages only read it and never write into another stage's output), keyed on
+the grid's inputs, the factors and the source of the modules that compute it.
 """
 
 from __future__ import annotations
@@ -27,9 +28,10 @@ from navlab.core.io import sha256_json, write_json
 from navlab.core.params import Params
 from navlab.maps.rooms import load_room
 from navlab.reach.grid import Grid
-from navlab.reach.precompute import SUBDIR, _car, _settings, load_static_brt, room_obstacle_distance
+from navlab.reach.precompute import _car, _settings, load_static_brt, room_obstacle_distance
 
 CODE = ("navlab.reach.brt_margin",)  # and every navlab module it imports (core.fingerprint)
+MARGINS_SUBDIR = "hj_margins"
 
 
 def refined_grid(grid: Grid, refine: tuple[int, ...]) -> Grid:
@@ -71,7 +73,7 @@ def measure_static_brt_margin(params: Params, artifacts_dir: str | Path, room_na
     """Solve the room's static BRT on the refined grid and measure the stored grid's optimism (cached)."""
     lookup = load_static_brt(params, artifacts_dir, room_name)
     key = {"grid_inputs": lookup.stored.meta["inputs_hash"], "refine": list(refine), "code": code_fingerprint(*CODE)}
-    cache = Path(artifacts_dir) / SUBDIR / f"brt_margin_{room_name}.json"
+    cache = Path(artifacts_dir) / MARGINS_SUBDIR / f"brt_margin_{room_name}.json"
     if cache.is_file():
         cached = json.loads(cache.read_text())
         if cached.get("key") == sha256_json(key):
@@ -94,3 +96,15 @@ def measure_static_brt_margin(params: Params, artifacts_dir: str | Path, room_na
     write_json(cache, {"key": sha256_json(key), "result": result})
     log(f"[brt_margin] {room_name}: {lookup.grid.shape} vs {fine_grid.shape}: margin {result['margin']:.4f}")
     return result
+
+
+def build_brt_margins(params: Params, data_dir: str | Path, artifacts_dir: str | Path, *,
+                      progress: bool = True, log=print) -> list[Path]:
+    """Artefact step ``hj_margins``: the static-BRT margin of every room with a stored BRT
+    (``hj.grids.rooms``), at ``hj.planner.brt_margin_refine``, solved on ``hj.grids.device``."""
+    del data_dir  # rooms are analytic geometry
+    refine = tuple(params.hj.planner.brt_margin_refine)
+    for room in params.hj.grids.rooms:
+        measure_static_brt_margin(params, artifacts_dir, room, refine, device=params.hj.grids.device,
+                                  progress=progress, log=log)
+    return [Path(artifacts_dir) / MARGINS_SUBDIR / f"brt_margin_{room}.json" for room in params.hj.grids.rooms]
