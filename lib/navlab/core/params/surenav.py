@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from navlab.core.params.surenav_benchmark import BenchmarkParams
+from navlab.core.params.surenav_demos import SuReNavDemosParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.params.surenav_model import EstimatorParams, PlannerParams, TrainParams
 
@@ -16,3 +17,4 @@ class SuReNavParams:
     model: EstimatorParams
     train: TrainParams
     planner: PlannerParams
+    demos: SuReNavDemosParams

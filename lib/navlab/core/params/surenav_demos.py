@@ -1,0 +1,20 @@
+"""params.yaml `surenav.demos`: demonstrators of the SuReNav benchmark beyond data.demos' per-label expert."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from navlab.core.params.fields import between
+
+
+@dataclass(frozen=True)
+class ContextDemosParams:
+    seed: int = between(0)
+    test_pairs_per_map: int = between(1)  # semi-static environments per test map (Table I: 5 maps x 20)
+    min_context_share: float = between(0.0, 1.0)  # Expert IoU minus the best per-label field's, at least
+    min_region_gain: float = between(0.0, 1.0)  # rule-Psi SuReNav IoU minus the best per-label field's, at least
+
+
+@dataclass(frozen=True)
+class SuReNavDemosParams:
+    context: ContextDemosParams  # the context demonstrator (navlab.surenav.context)

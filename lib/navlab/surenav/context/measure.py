@@ -1,0 +1,110 @@
+"""The two properties that make the context demonstrator a benchmark for SuReNav's claim (issue 25).
+
+Every method walks Table I's executor (``benchmark.run_episode``: ``sim.semi_static.execute`` in the
+episode window, relaxation IoU on the demonstration's superpixels) on the context environments:
+
+- *context share*: the Expert (the demonstrator's own planner, true persona) minus the best
+  per-label cost field, in relaxation IoU: what no per-label per-metre cost explains;
+- *region-expressible*: ``SuReNavPolicy`` with the *rule Psi* (the rules at the personas' mean
+  tolerances, read from the believed map alone, no demonstration) minus the best per-label field:
+  how much of that context a per-superpixel Psi can carry.
+
+Differences are paired over environments with a 95% percentile bootstrap. The per-label fields are
+non-learned: the rules' per-metre surface costs; the rules' Psi of each label averaged over the
+personas and every region of that label on the test maps, spread over the region's diameter; and the
+per-label demonstrator's personas' mean costs (issue 25's 0.541 field).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from navlab.core.labels import LABELS, SOFT_IDS
+from navlab.core.params.surenav_benchmark import BenchmarkParams
+from navlab.core.params.surenav_demos import ContextDemosParams
+from navlab.core.params.surenav_graph import GraphParams
+from navlab.core.seeding import rng
+from navlab.metrics.intervals import bootstrap_mean_ci
+from navlab.metrics.navigation import risk_table
+from navlab.sim.semi_static import Policy
+from navlab.surenav.baselines.cost_field import CostFieldPolicy
+from navlab.surenav.benchmark import Outcome, reference_superpixels, run_episode
+from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
+from navlab.surenav.context.regions import region_context
+from navlab.surenav.context.rules import SURFACE_TABLE, relaxation_costs
+from navlab.surenav.context.walker import ContextWalker, RuleCost
+from navlab.surenav.episodes import Environment
+from navlab.surenav.experts.personas import PERSONAS
+from navlab.surenav.policy import SuReNavPolicy
+
+EXPERT = "Expert (context demonstrator's planner)"
+RULE_PSI = "SuReNav executor, rule Psi"
+FIELD = "per-label field: "
+
+
+def per_label_fields(maps: dict[str, tuple[np.ndarray, np.ndarray, float]]) -> dict[str, np.ndarray]:
+    """Per-label cost per metre of each non-learned field; ``maps``: name -> (labels, superpixels,
+    resolution) of the test maps (for the rules' mean Psi per label)."""
+    spread = np.zeros(len(LABELS))
+    count = np.zeros(len(LABELS))
+    for labels, superpixels, res in maps.values():
+        ids, regions = np.unique(superpixels, return_inverse=True)
+        regions = regions.reshape(superpixels.shape) - (ids[0] < 0)
+        ctx = region_context(labels, regions, len(ids) - (ids[0] < 0), res)
+        for persona in CONTEXT_PERSONAS:
+            per_metre = relaxation_costs(ctx, persona) / np.sqrt(ctx.area_m2)
+            spread += np.bincount(ctx.label, per_metre, minlength=len(LABELS))
+            count += np.bincount(ctx.label, minlength=len(LABELS))
+    rules_mean = SURFACE_TABLE.copy()
+    rules_mean[SOFT_IDS] = 1.0 + spread[SOFT_IDS] / np.maximum(count[SOFT_IDS], 1)
+    mean = {name: float(np.mean([getattr(p, name) for p in PERSONAS]))
+            for name in ("road_cost", "living_street_cost", "parking_cost", "rough_cost", "grass_edge_cost")}
+    old = {"sidewalk": 1.0, "crosswalk": 1.0, "road": mean["road_cost"], "living_street": mean["living_street_cost"],
+           "parking": mean["parking_cost"], "grass": mean["grass_edge_cost"], "rough_terrain": mean["rough_cost"]}
+    return {"the rules' surface costs": SURFACE_TABLE, "the rules' mean Psi per metre": rules_mean,
+            "the per-label demonstrator's personas' mean costs": np.array([old.get(lab.name, np.inf) for lab in LABELS])}
+
+
+def run_method(envs: list[Environment], stored: dict[str, np.ndarray], policy: Callable[[Environment], Policy],
+               settings: BenchmarkParams, graph: GraphParams) -> list[Outcome]:
+    """One method (a fresh policy per environment) on every environment, through Table I's executor."""
+    risk = risk_table(settings.unit_risk)
+    return [run_episode(env, "", policy(env), settings, graph, risk, reference_superpixels(env, graph, stored[env.group]))
+            for env in envs]
+
+
+def _row(method: str, outcomes: list[Outcome], settings: BenchmarkParams) -> dict:
+    row = {"method": method, "sr": float(np.mean([o.success for o in outcomes]))}
+    for col in ("frechet", "relaxation_iou"):
+        values = np.array([getattr(o, col) for o in outcomes])
+        lo, hi = bootstrap_mean_ci(values, rng(settings.seed, "context", method, col), settings.bootstrap_samples)
+        row[col], row[f"{col}_ci"] = float(values.mean()), [round(lo, 4), round(hi, 4)]
+    return row
+
+
+def _paired(a: list[Outcome], b: list[Outcome], threshold: float, settings: BenchmarkParams, key: str) -> dict:
+    diff = np.array([x.relaxation_iou - y.relaxation_iou for x, y in zip(a, b, strict=True)])
+    lo, hi = bootstrap_mean_ci(diff, rng(settings.seed, "context", key), settings.bootstrap_samples)
+    return {"delta_iou": float(diff.mean()), "delta_iou_ci": [round(lo, 4), round(hi, 4)], "at_least": threshold,
+            "holds": bool(diff.mean() >= threshold)}
+
+
+def measure(envs: list[Environment], stored: dict[str, np.ndarray], settings: BenchmarkParams, graph: GraphParams,
+            context: ContextDemosParams, planner_mode: str, margin_m: float) -> dict:
+    """Rows (Fréchet, IoU, SR with 95% intervals) of the Expert, every per-label field and the rule-Psi
+    SuReNav, and the two properties against the best field (highest mean IoU), paired."""
+    maps = {env.group: (env.prior.labels, stored[env.group], env.prior.frame.resolution) for env in envs}
+    fields = per_label_fields(maps)
+    runs = {EXPERT: lambda env: ContextWalker(CONTEXT_PERSONAS[env.persona], margin_m),
+            RULE_PSI: lambda env: SuReNavPolicy(RuleCost(mean_persona()), planner_mode, margin_m),
+            **{FIELD + name: (lambda env, t=table: CostFieldPolicy(t)) for name, table in fields.items()}}
+    outcomes = {name: run_method(envs, stored, make, settings, graph) for name, make in runs.items()}
+    rows = [_row(name, found, settings) for name, found in outcomes.items()]
+    best = max((r for r in rows if r["method"].startswith(FIELD)), key=lambda r: r["relaxation_iou"])["method"]
+    return {"environments": len(envs), "rows": rows, "best_field": best,
+            "field_costs": {name: [round(float(c), 3) for c in t] for name, t in fields.items()},
+            "context_share": _paired(outcomes[EXPERT], outcomes[best], context.min_context_share, settings, "share"),
+            "region_expressible": _paired(outcomes[RULE_PSI], outcomes[best], context.min_region_gain, settings,
+                                          "region")}
