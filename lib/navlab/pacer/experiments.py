@@ -86,7 +86,8 @@ def pacer_method(model: torch.nn.Module, data: PacerDataParams, device: str = "c
 def window_oracle_method(data: PacerDataParams) -> Method:
     """Reference row (ceiling): every BEV window costed exactly as its training target, stitched as PACER's."""
     mask = fov_mask(data.image_size, data.camera.near_width)
-    return lambda amap, ordering, context: window_oracle_costmap(amap.labels, ordering, mask).numpy()
+    return lambda amap, ordering, context: window_oracle_costmap(amap.labels, ordering, mask,
+                                                                 target=data.train_target).numpy()
 
 
 def uniform_method() -> Method:
