@@ -1,11 +1,25 @@
-"""`python -m navlab params check`: every profile of the checkout's params.yaml fits, and a profile that
-does not is named with one line per mis-fitting key (without data/, without training)."""
+"""Every profile checked on the CPU, in seconds, without data/ (issue 24 item 6): loading a profile refuses
+keys of different sections that do not fit together (navlab.core.params.constraints), and
+`python -m navlab params check` dry-runs each profile's stage shapes (navlab.pipeline.profile_check), so
+`gpu` and `paper` cannot break unseen. A profile that does not fit is named with one line per key."""
 
 from __future__ import annotations
 
+import dataclasses
+
+import numpy as np
+import pytest
+import torch
+
 from navlab.cli import main
-from navlab.core.params import load_params, repo_root
-from navlab.pipeline.profile_check import hj_problems, pacer_render_problems
+from navlab.core.grid import RasterFrame
+from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
+from navlab.maps.semantic_map import SemanticMap
+from navlab.pacer.aerial import semantic_map_regions
+from navlab.pacer.evaluate import costmap_over_map
+from navlab.pipeline.profile_check import check_profile, hj_problems
+
+GPU_AERIAL = "gpu: 448, paper: 512}"  # pacer.data.aerial.size's gpu and paper values in params.yaml
 
 
 def _edited(tmp_path, *swaps: tuple[str, str]):
@@ -19,28 +33,74 @@ def _edited(tmp_path, *swaps: tuple[str, str]):
     return path
 
 
-def test_every_profile_fits(capsys):
-    assert main(["params", "check"]) == 0
-    out = capsys.readouterr().out
-    assert "every profile fits" in out
-    assert all(f"[{p}] pacer model" in out for p in ("smoke", "default", "gpu", "paper"))
+@pytest.mark.parametrize("profile", PROFILES)
+def test_profile_dry_run(profile):
+    """Each stage family of the profile fits: data checks, PACER net and baselines on meta, the SuReNav
+    estimator on a three-node graph, HJ grid specs and memory."""
+    problems, notes = check_profile(load_params(profile))
+    assert problems == []
+    for family in ("pacer aerial", "pacer model", "surenav estimator", "hj "):
+        assert sum(n.startswith(family) for n in notes) == 1, (family, notes)
+
+
+def test_old_gpu_aerial_size_fails_at_load(tmp_path):
+    """The bug this exists for: 512-px aerial maps cut from 500-px SuReNav test maps stopped the gpu
+    profile at the tables after ~2 h of training; now load_params itself refuses it, naming key and fix."""
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"))
+    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 512 exceeds the 500-px SuReNav test maps "
+                                          r"it is cut from \(data\.maps\.tile_size_m / resolution_m = 500 / 1\);.*"
+                                          r"use <= 500$"):
+        load_params("gpu", path)
+    assert load_params("default", path).pacer.data.aerial.size == 256  # the other profiles are untouched
+
+
+def test_aerial_rule_is_the_runtime_rule(tmp_path):
+    """load_params accepts exactly the sizes semantic_map_regions can cut from a test map (<= its side)."""
+    blank = SemanticMap("test map", np.zeros((500, 500), np.uint8), RasterFrame((500, 500), 1.0))
+    assert load_params("gpu", _edited(tmp_path, (GPU_AERIAL, "gpu: 500, paper: 512}"))).pacer.data.aerial.size == 500
+    assert semantic_map_regions([blank], 500, np.random.default_rng(0)).shape == (500, 500)
+    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 501"):
+        load_params("gpu", _edited(tmp_path, (GPU_AERIAL, "gpu: 501, paper: 512}")))
+    with pytest.raises(ValueError, match="smaller than the aerial size 501"):
+        semantic_map_regions([blank], 501, np.random.default_rng(0))
+
+
+def test_bev_window_rule_is_the_runtime_rule(tmp_path):
+    """The aerial costmap reflect-pads the map by one BEV window, which needs window < map: refused at load."""
+    with pytest.raises(ParamsError, match=r"^pacer\.data\.image_size = 128 must be smaller than pacer\.data\.aerial"):
+        load_params("gpu", _edited(tmp_path, (GPU_AERIAL, "gpu: 128, paper: 512}")))
+    with pytest.raises(RuntimeError):
+        costmap_over_map(torch.nn.Identity(), torch.zeros(3, 32, 32), torch.zeros(3, 16, 8), np.ones((32, 32), bool))
+
+
+def test_dry_run_names_each_misfit():
+    """Shapes that only fail inside a stage: a U-Net too deep for the BEV image, a baseline too deep for
+    its patches, attention heads that do not divide the SuReNav width: one line each, naming the key."""
+    p = load_params("smoke")
+    b = p.pacer.baselines
+    bad = dataclasses.replace(p, pacer=dataclasses.replace(
+        p.pacer, model=dataclasses.replace(p.pacer.model, image_channels=(4, 8, 16, 32, 64, 128)),
+        baselines=dataclasses.replace(b, sterling=dataclasses.replace(b.sterling, channels=(8, 16, 32, 64)))),
+        surenav=dataclasses.replace(p.surenav, model=dataclasses.replace(p.surenav.model, channels=18)))
+    problems, _ = check_profile(bad)
+    assert [q.split(" ")[0] for q in problems] == ["pacer.model", "pacer.baselines.sterling.channels",
+                                                    "surenav.model.channels"], problems
 
 
 def test_misfits_are_one_line_per_key(tmp_path, capsys):
     """The gpu profile's old 512-px aerial maps (500-px test maps) and a default TTR grid over the CPU budget."""
-    path = _edited(tmp_path, ("gpu: 448, paper: 512}", "gpu: 512, paper: 512}"),
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"),
                    ("default: [81, 81, 11, 36], paper: [481", "default: [801, 801, 11, 36], paper: [481"))
     assert main(["params", "check", "--params", str(path)]) == 2
     errors = capsys.readouterr().err.splitlines()
-    assert len(errors) == 2, errors  # gpu takes default's TTR grid too, but its machine has 96 GiB, not 16
+    assert len(errors) == 2, errors  # gpu stops at load; its TTR grid (default's) fits its 96 GiB anyway
     assert sum("[gpu] pacer.data.aerial.size = 512 exceeds the 500-px" in e for e in errors) == 1
     assert sum("[default] hj.grids.ttr.shape = [801, 801, 11, 36]" in e for e in errors) == 1
 
 
-def test_one_profile_and_the_runtime_rule(tmp_path):
-    """--profile checks one profile; the aerial rule is aerial.semantic_map_regions' own (size <= map side)."""
-    path = _edited(tmp_path, ("gpu: 448, paper: 512}", "gpu: 500, paper: 512}"))
-    assert main(["params", "check", "--profile", "gpu", "--params", str(path)]) == 0
-    path = _edited(tmp_path, ("gpu: 448, paper: 512}", "gpu: 501, paper: 512}"))
-    assert pacer_render_problems(load_params("gpu", path), [])[0].startswith("pacer.data.aerial.size = 501")
+def test_one_profile(capsys):
+    """--profile checks one profile; the paper HJ grids fit their machine."""
+    assert main(["params", "check", "--profile", "gpu"]) == 0
+    out = capsys.readouterr().out
+    assert "[gpu] pacer model" in out and "[default]" not in out and "every profile fits" in out
     assert hj_problems(load_params("paper"), []) == []

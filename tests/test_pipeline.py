@@ -50,12 +50,7 @@ def test_data_stage_builds_the_snapshot():
 
 # Stages whose committed report is known to come from older code, each with the reason; the test below
 # fails when any other stage is stale, and when one of these becomes current (then delete its line).
-KNOWN_STALE = {
-    "surenav_02_safety_efficiency": "Fig. 4's 2,700 episode runs take ~3 h on 2 cores (GNN inference per "
-                                    "re-plan, two threads per worker process); not regenerated since fa51aee",
-    "surenav_01_human_likeness": "Table I's report is fa51aee's: it was regenerated on 2026-11-25, then "
-                                 "overwritten by mistake, and its rerun did not fit the session (lock entry dropped)",
-}
+KNOWN_STALE: dict[str, str] = {}
 
 
 @pytest.mark.provenance

@@ -1,11 +1,13 @@
 """``python -m navlab params check``: does each profile of params.yaml *fit*, before hours are spent on it?
 
-Loading params.yaml already checks every key's type and range; this checks how keys of different
-sections fit together, by dry-running the shapes of each stage on the CPU in seconds, without data/
-and without training (issue 23 item 4, issue 24 item 6). It exists because the ``gpu`` profile once
-trained for ~2 h and then stopped at the tables: its aerial maps (512 px) did not fit in the 500-px
-SuReNav test maps they are cut from. Each rule here comes from the code that would fail at run time,
-called on stand-in inputs where that is cheap (models on the ``meta`` device: shapes, no memory).
+Loading params.yaml already checks every key's type and range and the rules tying keys of different
+sections together (navlab.core.params.constraints: aerial maps no larger than the test maps they are
+cut from, batches no larger than what they are drawn from). This dry-runs the shapes of each stage on
+the CPU in seconds, without data/ and without training (issue 23 item 4, issue 24 item 6): it exists
+because the ``gpu`` profile once trained for ~2 h and then stopped at the tables (its 512-px aerial
+maps did not fit in the 500-px SuReNav test maps). Each check calls the code that would fail at run
+time on stand-in inputs (models on the ``meta`` device: shapes, no memory; the validations the stages
+themselves run), and compares memory estimates with the budget of the machine the profile targets.
 
 Each ``*_problems`` function covers one stage family and returns one line per problem, naming the
 params key; it may append what it measured to ``notes`` (parameter counts, sizes, memory).
@@ -19,6 +21,7 @@ from collections.abc import Callable
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.core.params.constraints import surenav_test_map_px
 
 GIB = 2**30
 # Memory budgets, by the machine a profile targets. smoke and default run on the shared 2-core CPU machine
@@ -42,38 +45,21 @@ def budget_gib(params: Params, device: str) -> float:
     return GPU_MACHINE_RAM_GIB if params.profile in ("gpu", "paper") else CPU_MACHINE_RAM_GIB
 
 
-def surenav_test_map_px(params: Params) -> int:
-    """Pixels per side of a SuReNav test map: real-city tiles cut as navlab.maps.tiles.cut_tiles does."""
-    m = params.data.maps
-    return round(m.tile_size_m / m.resolution_m)
+def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
+    """The checks load_terrain_bank runs on pacer.data before any stage renders (class lists, ordering,
+    [min, max] ranges, terrains per image), without the photographs; the render sizes as a note."""
+    from navlab.core.params import ParamsError
+    from navlab.pacer.terrain import _check_ranges, _check_split
 
-
-def pacer_render_problems(params: Params, notes: list[str]) -> list[str]:
-    """Aerial maps against the test maps they are cut from, BEV windows and patches against their images."""
-    from navlab.core.grid import RasterFrame
-    from navlab.maps.semantic_map import SemanticMap
-    from navlab.pacer.aerial import semantic_map_regions
-
-    d, problems = params.pacer.data, []
-    side, size = surenav_test_map_px(params), d.aerial.size
-    notes.append(f"pacer aerial {size} px ({d.aerial.layout}), test maps {side} px, BEV {d.image_size} px, "
-                 f"patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
-    if d.aerial.layout == "surenav":  # the very rule aerial maps are cut by, on a blank map of the test maps' size
-        blank = SemanticMap("test map", np.zeros((side, side), np.uint8), RasterFrame((side, side), 1.0))
-        try:
-            semantic_map_regions([blank], size, np.random.default_rng(0))
-        except ValueError:
-            problems.append(f"pacer.data.aerial.size = {size} exceeds the {side}-px SuReNav test maps "
-                            f"(data.maps.tile_size_m / resolution_m = {params.data.maps.tile_size_m:g} / "
-                            f"{params.data.maps.resolution_m:g}); the navigation tables would stop with a "
-                            f"ValueError after training; use <= {side}")
-    if d.image_size >= size:  # costmap_over_map reflect-pads the map by one BEV window: needs window < map
-        problems.append(f"pacer.data.image_size = {d.image_size} must be smaller than pacer.data.aerial.size = "
-                        f"{size} (the aerial costmap reflect-pads the map by one BEV window)")
-    if params.pacer.baselines.patch_size > d.image_size:  # baselines.patches.sample_patches refuses it
-        problems.append(f"pacer.baselines.patch_size = {params.pacer.baselines.patch_size} exceeds the BEV image "
-                        f"pacer.data.image_size = {d.image_size}")
-    return problems
+    d = params.pacer.data
+    notes.append(f"pacer aerial {d.aerial.size} px ({d.aerial.layout}), test maps {surenav_test_map_px(params)} px, "
+                 f"BEV {d.image_size} px, patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
+    try:
+        _check_split(d)
+        _check_ranges(d)
+    except ParamsError as err:
+        return [str(err)]
+    return []
 
 
 def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
@@ -125,39 +111,69 @@ def _activation_count(model, forward: Callable[[], object]) -> int | str:
     return total[0]
 
 
-def pacer_batch_problems(params: Params, notes: list[str]) -> list[str]:
-    """A batch larger than the examples it is drawn from never happens: the stated size is a typo."""
-    p, problems = params.pacer, []
-    pairs = [("pacer.train.batch_size", p.train.batch_size,
-              "pacer.train.examples_per_epoch", p.train.examples_per_epoch),
-             ("pacer.train.val_examples", p.train.val_examples, "pacer.data.sizes.val", p.data.sizes.val),
-             ("pacer.baselines.sterling.batch_size", p.baselines.sterling.batch_size,
-              "pacer.baselines.sterling.patches_per_epoch", p.baselines.sterling.patches_per_epoch),
-             ("pacer.baselines.classifier.batch_size", p.baselines.classifier.batch_size,
-              "pacer.baselines.classifier.patches_per_epoch", p.baselines.classifier.patches_per_epoch)]
-    for key, value, of_key, of in pairs:
-        if value > of:
-            problems.append(f"{key} = {value} exceeds {of_key} = {of}")
+def pacer_baseline_problems(params: Params, notes: list[str]) -> list[str]:
+    """STERLING's encoder and the semantic classifier on ``meta``, each on two patches of
+    pacer.baselines.patch_size (their conv-pool stages need a patch of at least 2^stages pixels)."""
+    import torch
+
+    from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
+    from navlab.pacer.baselines.sterling import SterlingEncoder
+
+    b, problems = params.pacer.baselines, []
+    with torch.device("meta"):
+        models = {"sterling": SterlingEncoder(b.sterling.channels, b.sterling.embed_dim, b.patch_size),
+                  "classifier": SemanticClassifier(range(len(params.pacer.data.seen)), b.classifier.channels,
+                                                   b.patch_size)}
+        patches = torch.empty(2, 3, b.patch_size, b.patch_size)
+    for name, model in models.items():
+        try:
+            model(patches)
+        except (RuntimeError, ValueError) as err:
+            problems.append(f"pacer.baselines.{name}.channels = {list(model.channels)} on pacer.baselines.patch_size "
+                            f"= {b.patch_size}: {str(err).splitlines()[0]}")
     return problems
 
 
 def surenav_model_problems(params: Params, notes: list[str]) -> list[str]:
-    """Build the SuReNav estimator (GPS and the MPNN-only ablation) on ``meta``: its own checks, its size."""
+    """The SuReNav estimator (GPS and the MPNN-only ablation) at the profile's size, on the input
+    estimator_input builds from a three-node region graph: its own checks, Psi per node, its size.
+    On the CPU, not ``meta``: the attention path calls torch.nonzero, which needs real values; three nodes
+    take milliseconds."""
     import torch
 
     from navlab.surenav.model.estimator import RelaxationCostEstimator
+    from navlab.surenav.model.inputs import estimator_input
 
-    counts = []
+    m, counts = params.surenav.model, []
+    data = estimator_input(_three_node_graph(), walk_steps=m.walk_steps)
     for attention in (True, False):
         try:
-            with torch.device("meta"):
-                model = RelaxationCostEstimator(params.surenav.model, attention=attention)
-        except ValueError as err:
-            return [str(err).splitlines()[0]]
+            model = RelaxationCostEstimator(m, attention=attention).eval()
+            with torch.no_grad():
+                psi = model(data)
+        except (RuntimeError, ValueError) as err:
+            line = str(err).splitlines()[0]
+            return [line if line.startswith("surenav.") else f"surenav.model: {line}"]
+        if psi.shape != (data.num_nodes,):
+            return [f"surenav.model: Psi of shape {tuple(psi.shape)} for {data.num_nodes} nodes; expected one per node"]
         counts.append(sum(p.numel() for p in model.parameters()))
     notes.append(f"surenav estimator {counts[0]:,} parameters (MPNN-only ablation {counts[1]:,}), "
                  f"batch {params.surenav.train.batch_size} on {params.surenav.train.device}")
     return []
+
+
+def _three_node_graph():
+    """A free node between two soft ones, start and goal at the ends: the smallest graph with both kinds."""
+    from navlab.core.grid import RasterFrame
+    from navlab.core.labels import FREE_IDS, SOFT_IDS
+    from navlab.graphs.region_graph import RegionGraph
+
+    xy = np.array([[0.5, 0.5], [1.5, 0.5], [2.5, 0.5]])
+    edges = np.array([[0, 1], [1, 2]])
+    return RegionGraph(superpixels=np.arange(3, dtype=np.int32)[None], frame=RasterFrame((1, 3), 1.0),
+                       region_ids=np.arange(3), node_label=np.array([SOFT_IDS[0], FREE_IDS[0], SOFT_IDS[0]]),
+                       centroid=xy, anchor=xy, area=np.ones(3), edges=edges, edge_length=np.ones(2),
+                       edge_affinity=np.ones(2), portal=np.array([[1.0, 0.5], [2.0, 0.5]]), start_node=0, goal_node=2)
 
 
 def hj_problems(params: Params, notes: list[str]) -> list[str]:
@@ -199,13 +215,24 @@ def hj_problems(params: Params, notes: list[str]) -> list[str]:
     return problems
 
 
-CHECKS = (pacer_render_problems, pacer_model_problems, pacer_batch_problems, surenav_model_problems, hj_problems)
+CHECKS = (pacer_data_problems, pacer_model_problems, pacer_baseline_problems, surenav_model_problems, hj_problems)
 
 
 def check_profile(params: Params) -> tuple[list[str], list[str]]:
-    """(problems, notes) of one loaded profile, every stage family checked."""
+    """(problems, notes) of one loaded profile, every stage family checked.
+
+    On one torch thread (restored after): the few CPU ops are tiny, and on a shared 2-core machine two
+    OpenMP threads spinning against other jobs made the three-node SuReNav forward 0.7 s instead of 3 ms.
+    """
+    import torch
+
     problems: list[str] = []
     notes: list[str] = []
-    for check in CHECKS:
-        problems += check(params, notes)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        for check in CHECKS:
+            problems += check(params, notes)
+    finally:
+        torch.set_num_threads(threads)
     return problems, notes

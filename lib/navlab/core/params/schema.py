@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from navlab.core.params.constraints import cross_section_problems
 from navlab.core.params.data import DataParams
 from navlab.core.params.fields import PROFILES, between
 from navlab.core.params.hj import HJParams
@@ -24,3 +25,12 @@ class Params:
     surenav: SuReNavParams
     hj: HJParams
     pacer: PacerParams
+
+    def __post_init__(self):
+        """Refuse keys of different sections that do not fit together (constraints.py) at load time, so a
+        profile that cannot run stops here, not hours into a stage."""
+        problems = cross_section_problems(self)
+        if problems:
+            from navlab.core.params import ParamsError  # the package imports this module first
+
+            raise ParamsError(problems[0])
