@@ -16,6 +16,11 @@ ordering    int64 (L_max,)          the L terrains the target ranks, most prefer
 pairs       int64 (n, 2)            terrain ids (preferred, other) of each context pair, in channel order
 =========== ======================= =================================================================
 
+Layouts: the procedural ones of ``pacer.layouts`` (Voronoi regions and a trail), or, for a fraction
+``pacer.data.layout.street_windows`` of training items, a window of a SuReNav train/val street map
+(``STREET_SPLIT``: never the test tiles the evaluation maps are cut from), each semantic label painted
+with one of 2-4 terrains. With the fraction 0 nothing extra is drawn and every item is as before.
+
 Recipes (``RECIPES``):
 
 Training recipes draw their contexts as ``pacer.data.train_context`` says: ``superset`` (as at
