@@ -9,6 +9,7 @@ from navlab.core.seeding import rng
 from navlab.pacer.claims import (
     PAPER,
     agreement_against_target,
+    gap_closed,
     margin_ranking_claims,
     on_par,
     paired_difference,
@@ -96,3 +97,15 @@ def test_agreement_target_sentence():
     sentence = agreement_against_target(met, summary)
     assert "1536 optimiser steps" in sentence and "ran every epoch" in sentence
     assert "0.412 beside the entropy floor 0.201" in sentence
+
+
+def test_gap_closed_is_the_share_of_the_chance_to_ceiling_gap():
+    chance = np.array([0.2, 0.3, 0.25, 0.2] * 5)
+    ceiling = chance + 0.4
+    closes = gap_closed("m", chance + 0.36, chance, ceiling, "seen", "realistic")  # 0.9 of the gap on every map
+    assert closes.verdict == "holds" and "0.90 of the gap" in closes.evidence
+    short = gap_closed("m", chance + 0.2, chance, ceiling, "seen", "realistic")  # half the gap
+    assert short.verdict == "does not hold" and "0.50 of the gap" in short.evidence
+    noisy = gap_closed("m", chance + np.tile([0.0, 0.6], 10), chance, ceiling, "seen")  # 0.75 on average, spread
+    assert noisy.verdict == "inconclusive"
+    assert gap_closed("m", chance, chance, chance, "seen").verdict == "inconclusive"  # no room to close

@@ -335,6 +335,59 @@ def test_surenav_aerial_maps_give_each_semantic_label_one_terrain(bank, smoke_pa
         aerial_map(bank, params.pacer.data, "seen", 0, params.pacer.seed)
 
 
+def _with_data(params, **changes):
+    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=dataclasses.replace(
+        params.pacer.data, **changes)))
+
+
+def test_street_windows_come_from_surenav_training_geography_one_terrain_per_label(bank, smoke_params, smoke_data):
+    data = smoke_params.pacer.data
+    params = _with_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=1.0))
+    for split, maps in (("train", "train"), ("val", "val"), ("test", "val")):  # never the evaluation tiles
+        dataset = pacer_dataset(params, smoke_data, "real", split, bank)
+        assert [m.name for m in dataset.street_maps] == [m.name for m in load_maps(smoke_data, maps)]
+    dataset = pacer_dataset(params, smoke_data, "real", "train", bank)
+    for index in range(8):
+        keys = ("pacer", "real", "train", index)
+        gen = rng(params.pacer.seed, *keys)
+        gen.uniform()  # the street-window draw
+        window = semantic_map_regions(dataset.street_maps, data.image_size, gen)
+        item = dataset.item(index)
+        fov = item["fov_mask"]
+        assert 1 <= len(np.unique(item["labels"][fov])) <= data.layout.regions[1] + 1
+        assert set(item["ordering"][item["ordering"] >= 0].tolist()) == set(np.unique(item["labels"][fov]).tolist())
+        assert window.shape == item["labels"].shape
+    with pytest.raises(ValueError, match="needs the SuReNav maps"):
+        PacerDataset(bank, params.pacer.data, Recipe("real", "real", "seen", "realistic"), "train", 4, 0)
+
+
+def test_no_street_windows_leaves_every_item_as_before(bank, smoke_params, smoke_data):
+    """street_windows 0 draws nothing, so the procedural items (and every trained model) stay the same."""
+    recipe = Recipe("real", "real", "seen", "realistic")
+    plain = PacerDataset(bank, smoke_params.pacer.data, recipe, "train", 4, 0)
+    given = PacerDataset(bank, smoke_params.pacer.data, recipe, "train", 4, 0, street_maps=load_maps(smoke_data, "train"))
+    for a, b in zip(_items(plain, 4), _items(given, 4), strict=True):
+        assert all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_context_targets_rank_every_terrain_the_context_was_drawn_over(bank, smoke_params):
+    """A terrain's target cost is its rank in the whole superset ordering, not among its window neighbours."""
+    params = _with_data(smoke_params, train_target="context", train_context="superset")
+    dataset = pacer_dataset(params, None, "shuffled", bank=bank)
+    wider = 0
+    for item in _items(dataset, 12):
+        ordering = item["ordering"][item["ordering"] >= 0]
+        fov = item["fov_mask"]
+        shown = np.unique(item["labels"][fov])
+        assert set(shown.tolist()) <= set(ordering.tolist())
+        wider += len(ordering) > len(shown)
+        for t in shown:
+            rank = int(np.flatnonzero(ordering == t)[0])
+            np.testing.assert_allclose(item["costmap"][fov & (item["labels"] == t)], rank / max(len(ordering) - 1, 1))
+    assert wider > 0  # the extras are ranked too
+    assert max_terrains(params.pacer.data) == max_terrains(smoke_params.pacer.data) + params.pacer.data.context_extra
+
+
 # --- metrics ----------------------------------------------------------------------------------------------
 
 def test_cost_tier_proportions_on_a_hand_made_path():

@@ -2,18 +2,34 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from navlab.core.seeding import rng
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.metrics.intervals import bootstrap_mean_ci, bootstrap_ratio_ci
-from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.aerial import AerialMap, aerial_maps
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.datasets import evaluation_dataset
 from navlab.pacer.evaluate import oracle_window_costs, window_oracle_costmap
-from navlab.pacer.experiments import map_context, navigation_rows, uniform_method, window_oracle_method
-from navlab.pacer.preferences import IGNORE, environment_tiers, order_terrains, target_costmap
+from navlab.pacer.experiments import (
+    context_limited_oracle_method,
+    map_context,
+    navigation_rows,
+    uniform_method,
+    window_oracle_method,
+)
+from navlab.pacer.preferences import (
+    IGNORE,
+    environment_tiers,
+    mean_consistent_ranks,
+    order_terrains,
+    target_costmap,
+)
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.search.grid_astar import plan
 
@@ -74,7 +90,7 @@ def test_uniform_row_is_the_plain_shortest_path(bank, smoke_params, smoke_data):
                              bank, P.data, "realistic", P.evaluation.cost_scale, P.seed, queries_per_map=1)
     for k, amap in enumerate(maps):
         path = plan(np.ones(amap.labels.shape), amap.start, amap.goal)
-        ordering, _ = map_context(bank, P.data, amap, "realistic", True, P.seed, k)
+        ordering, _, _ = map_context(bank, P.data, amap, "realistic", True, P.seed, k)
         shares = cost_tier_proportions(path.cells, amap.labels, environment_tiers(ordering, len(bank)))
         np.testing.assert_allclose(result.shares["Uniform costmap"][k], [shares[t] for t in TIER_NAMES])
         np.testing.assert_array_equal(result.paths["Uniform costmap"][k], path.cells)
@@ -105,3 +121,29 @@ def test_evaluation_contexts_are_drawn_both_ways_on_the_same_images(bank, smoke_
     assert grew > 0  # superset contexts name terrains outside the view
     with pytest.raises(ValueError, match="in_view or superset"):
         evaluation_dataset(smoke_params, smoke_data, "seen", "realistic", bank=bank, context="all")
+
+
+@settings(max_examples=60, deadline=None)
+@given(count=st.integers(1, 6), data=st.data())
+def test_mean_consistent_ranks_match_enumerating_every_ordering(count, data):
+    """The subset DP against brute force over all permutations, for random (acyclic) pair sets."""
+    terrains = np.array(data.draw(st.permutations(range(10, 10 + count))), dtype=np.int64)
+    hidden = data.draw(st.permutations(terrains.tolist()))  # pairs drawn from one order never contradict
+    pairs = [(hidden[i], hidden[j]) for i, j in data.draw(st.lists(
+        st.tuples(st.integers(0, count - 1), st.integers(0, count - 1)).filter(lambda p: p[0] < p[1]), max_size=4))]
+    pairs.append((99, terrains[0]))  # a terrain not on the map constrains nothing
+    agree = [p for p in itertools.permutations(terrains.tolist())
+             if all(p.index(a) < p.index(b) for a, b in pairs if a in p and b in p)]
+    expected = [np.mean([p.index(t) for p in agree]) for t in terrains.tolist()]
+    np.testing.assert_allclose(mean_consistent_ranks(terrains, np.array(pairs).reshape(-1, 2)), expected)
+
+
+def test_context_limited_oracle_costs_follow_the_pairs_and_average_the_rest(bank):
+    a, b, c = (int(t) for t in bank.ids("seen")[:3])
+    labels = np.array([[a, b, c]])
+    amap = AerialMap(np.zeros((3, 1, 3), np.float32), labels, np.array(sorted([a, b, c])), (0, 0), (0, 2))
+    cost = context_limited_oracle_method()(amap, None, None, np.array([[a, b]]))
+    # a before b, c anywhere (abc, acb, cab): mean ranks a 1/3, b 5/3, c 1 of 0..2, costs rank / 2
+    np.testing.assert_allclose(cost[0], [1 / 6, 5 / 6, 1 / 2], atol=1e-6)
+    with pytest.raises(ValueError, match="contradict"):
+        mean_consistent_ranks(np.array([a, b]), np.array([[a, b], [b, a]]))

@@ -12,16 +12,24 @@ context     float32 (3n, 2h, w)     preference context: pair i in channels 3i..3
 costmap     float32 (S, S)          target cost (l-1)/(L-1) of each pixel's terrain rank l; 0 outside FOV
 fov_mask    bool (S, S)             the trapezoid field of view (the loss is taken inside it only)
 labels      int64 (S, S)            terrain ids (``TerrainBank.terrains``), -1 outside the FOV
-ordering    int64 (L_max,)          the L terrains in view, most preferred first, padded with -1
+ordering    int64 (L_max,)          the L terrains the target ranks, most preferred first, padded with -1
 pairs       int64 (n, 2)            terrain ids (preferred, other) of each context pair, in channel order
 =========== ======================= =================================================================
+
+Layouts: the procedural ones of ``pacer.layouts`` (Voronoi regions and a trail), or, for a fraction
+``pacer.data.layout.street_windows`` of training items, a window of a SuReNav train/val street map
+(``STREET_SPLIT``: never the test tiles the evaluation maps are cut from), each semantic label painted
+with one of 2-4 terrains. With the fraction 0 nothing extra is drawn and every item is as before.
 
 Recipes (``RECIPES``):
 
 Training recipes draw their contexts as ``pacer.data.train_context`` says: ``superset`` (as at
 deployment and in the released code: pairs over the terrains in view plus ``context_extra`` others of
-the same pool, every terrain in view named where n allows; the target still ranks only the terrains in
-view, in the superset's order) or ``in_view``.
+the same pool, every terrain in view named where n allows) or ``in_view``. The target ranks the terrains
+as ``pacer.data.train_target`` says: ``in_view`` only those in view (in the superset's order), so a
+terrain's level depends on its neighbours in the window; ``context`` every terrain of the superset, so
+the levels are those of the operator's whole ordering, the same in every window of a map (the paper's
+H(τ_l) = (l-1)/(L-1) ranks the whole total ordering, Sec. V-A).
 
 * ``real``: seen terrains, the realistic ordering (phase 1);
 * ``shuffled``: seen terrains, a uniformly random permutation per item (phase 2);
@@ -34,6 +42,7 @@ view, in the superset's order) or ``in_view``.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -45,6 +54,9 @@ from torch.utils.data import Dataset
 from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng as seeded_rng
+from navlab.maps.dataset import load_maps
+from navlab.maps.semantic_map import SemanticMap
+from navlab.pacer.aerial import semantic_map_regions
 from navlab.pacer.bev import fov_mask, render_bev
 from navlab.pacer.context import preference_context, superset_terrains, uninformative_context
 from navlab.pacer.layouts import bev_layout
@@ -53,6 +65,8 @@ from navlab.pacer.terrain import TerrainBank, load_terrain_bank
 
 Split = Literal["train", "val", "test"]
 SPLITS: tuple[Split, ...] = ("train", "val", "test")
+# street windows come from SuReNav's training geography only, never from its test tiles (the evaluation maps)
+STREET_SPLIT = {"train": "train", "val": "val", "test": "val"}
 ContextDraw = Literal["in_view", "superset"]
 CONTEXT_DRAWS: tuple[ContextDraw, ...] = ("in_view", "superset")
 
@@ -80,18 +94,22 @@ RECIPES = {
 
 def max_terrains(params: PacerDataParams) -> int:
     """L_max: the most terrains one BEV image can show (the padded length of ``ordering``)."""
-    return params.layout.regions[1] + (1 if params.layout.path_probability > 0 else 0)
+    in_view = params.layout.regions[1] + (1 if params.layout.path_probability > 0 else 0)
+    return in_view + (params.context_extra if params.train_target == "context" else 0)
 
 
 class PacerDataset(Dataset):
     """``size`` items of ``recipe`` for ``split``; see the module docstring for the item layout."""
 
     def __init__(self, bank: TerrainBank, params: PacerDataParams, recipe: Recipe, split: Split, size: int,
-                 seed: int, epoch: int | None = None):
+                 seed: int, epoch: int | None = None, street_maps: Sequence[SemanticMap] = ()):
         if split not in SPLITS:
             raise ValueError(f"split {split!r}: allowed splits are {', '.join(SPLITS)}")
+        if params.layout.street_windows > 0 and not street_maps:
+            raise ValueError(f"{recipe.name}/{split}: pacer.data.layout.street_windows > 0 needs the SuReNav maps "
+                             "(street_maps=); build them with `python -m navlab data build`")
         self.bank, self.params, self.recipe, self.split = bank, params, recipe, split
-        self.size, self.seed, self.epoch = size, seed, epoch
+        self.size, self.seed, self.epoch, self.street_maps = size, seed, epoch, tuple(street_maps)
 
     def __len__(self) -> int:
         return self.size
@@ -109,13 +127,19 @@ class PacerDataset(Dataset):
             raise IndexError(f"item {index} is outside {self.recipe.name}/{self.split} (size {self.size})")
         keys = ("pacer", self.recipe.stream, self.split, index) + (() if self.epoch is None else ("epoch", self.epoch))
         rng = seeded_rng(self.seed, *keys)
-        return make_item(self.bank, self.params, self.recipe, rng)
+        return make_item(self.bank, self.params, self.recipe, rng, self.street_maps)
 
 
-def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: np.random.Generator) -> dict:
+def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: np.random.Generator,
+              street_maps: Sequence[SemanticMap] = ()) -> dict:
     """One item of ``recipe`` (numpy arrays); every random draw comes from ``rng``."""
-    regions = bev_layout(rng, params.image_size, params.layout, params.camera.near_width)
-    region_terrains = rng.choice(bank.ids(recipe.terrains), size=int(regions.max()) + 1, replace=False)
+    if params.layout.street_windows > 0 and rng.uniform() < params.layout.street_windows:
+        regions = semantic_map_regions(street_maps, params.image_size, rng)
+        region_terrains = street_terrains(int(regions.max()) + 1, bank.ids(recipe.terrains),
+                                          params.layout.regions[1] + 1, rng)
+    else:
+        regions = bev_layout(rng, params.image_size, params.layout, params.camera.near_width)
+        region_terrains = rng.choice(bank.ids(recipe.terrains), size=int(regions.max()) + 1, replace=False)
     if recipe.synthetic:
         visible = np.unique(regions[fov_mask(params.image_size, params.camera.near_width)])
         region_terrains = _replace_with_synthetic(region_terrains, visible, bank, rng, params.synthetic_replace)
@@ -128,7 +152,7 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
         pool = np.concatenate([bank.ids(g) for g in (recipe.terrains, "synthetic")[: 1 + recipe.synthetic]])
         drawn = order_terrains(superset_terrains(in_view, pool, params.context_extra, rng), recipe.preference,
                                bank, rng)
-        ordering = drawn[np.isin(drawn, in_view)]  # the target ranks the terrains in view, in the same order
+        ordering = drawn if params.train_target == "context" else drawn[np.isin(drawn, in_view)]
         context, pairs = preference_context(bank, drawn, rng, params, cover=in_view)
     elif recipe.informative:
         context, pairs = preference_context(bank, ordering, rng, params)
@@ -145,16 +169,32 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
     }
 
 
+def street_terrains(regions: int, pool: np.ndarray, most: int, rng: np.random.Generator) -> np.ndarray:
+    """Terrain ids of a street window's ``regions`` (one per semantic label): 2..``most`` distinct terrains of
+    ``pool``, each used at least once, as the evaluation maps assign several labels to one terrain."""
+    count = min(regions, most, len(pool))
+    count = int(rng.integers(min(2, count), count + 1))
+    chosen = rng.choice(pool, size=count, replace=False)
+    return rng.permutation(np.concatenate([chosen, rng.choice(chosen, size=regions - count)]))
+
+
 def _replace_with_synthetic(terrains: np.ndarray, visible: np.ndarray, bank: TerrainBank,
                             rng: np.random.Generator, chance: float) -> np.ndarray:
-    """Each region's terrain becomes a distinct synthetic one with probability ``chance``; at least one
-    region in view (``visible``) does, so every D_synthetic image shows a synthetic terrain."""
-    replace = rng.uniform(size=len(terrains)) < chance
-    if not replace[visible].any():
-        replace[visible[int(rng.integers(len(visible)))]] = True
-    out = terrains.copy()
+    """Each terrain of the layout (``terrains``: one per region) becomes a distinct synthetic one with
+    probability ``chance``, in every region it fills (a street window paints several labels with one
+    terrain); at least one terrain in view (regions ``visible``) does, so every D_synthetic image shows a
+    synthetic terrain."""
+    if len(np.unique(terrains)) == len(terrains):  # one terrain per region: draw per region, as always
+        kinds, index = terrains, np.arange(len(terrains))
+    else:
+        kinds, index = np.unique(terrains, return_inverse=True)
+    replace = rng.uniform(size=len(kinds)) < chance
+    shown = np.unique(index[visible])
+    if not replace[shown].any():
+        replace[shown[int(rng.integers(len(shown)))]] = True
+    out = kinds.copy()
     out[replace] = rng.choice(bank.ids("synthetic"), size=int(replace.sum()), replace=False)
-    return out
+    return out[index]
 
 
 def pacer_dataset(params: Params, data_dir: str | Path, name: str, split: Split = "train",
@@ -166,7 +206,9 @@ def pacer_dataset(params: Params, data_dir: str | Path, name: str, split: Split 
     data = params.pacer.data
     bank = bank if bank is not None else load_terrain_bank(data_dir, data)
     recipe = dataclasses.replace(RECIPES[name], context=data.train_context)
-    return PacerDataset(bank, data, recipe, split, getattr(data.sizes, split), params.pacer.seed)
+    street_maps = load_maps(data_dir, STREET_SPLIT[split]) if data.layout.street_windows > 0 else ()
+    return PacerDataset(bank, data, recipe, split, getattr(data.sizes, split), params.pacer.seed,
+                        street_maps=street_maps)
 
 
 def evaluation_dataset(params: Params, data_dir: str | Path, terrains: Literal["seen", "unseen"],

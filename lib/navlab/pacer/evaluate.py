@@ -64,24 +64,28 @@ def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch
     return stitch_windows(costs, tuple(image.shape[1:]), fov_mask, overlap=overlap, batch=batch)
 
 
-def oracle_window_costs(labels: np.ndarray, fov_mask: np.ndarray, ordering: np.ndarray) -> np.ndarray:
-    """The training target of one BEV window (Sec. V-A): the environment's ``ordering`` restricted to the
-    terrains in the window's field of view, each pixel costed (l-1)/(L-1) by its rank l among them."""
-    in_view = np.unique(labels[fov_mask])
+def oracle_window_costs(labels: np.ndarray, fov_mask: np.ndarray, ordering: np.ndarray,
+                        target: str = "in_view") -> np.ndarray:
+    """The training target of one BEV window (Sec. V-A) under the environment's ``ordering``: each pixel
+    costed (l-1)/(L-1) by its rank l among the terrains in the window's field of view (``target``
+    in_view) or in the whole ordering (context: what the operator's context was drawn over)."""
     ordering = np.asarray(ordering, dtype=np.int64)
-    return target_costmap(np.where(fov_mask, labels, IGNORE), ordering[np.isin(ordering, in_view)])
+    if target == "in_view":
+        ordering = ordering[np.isin(ordering, np.unique(labels[fov_mask]))]
+    return target_costmap(np.where(fov_mask, labels, IGNORE), ordering)
 
 
 def window_oracle_costmap(labels: np.ndarray, ordering: np.ndarray, fov_mask: np.ndarray, *,
-                          overlap: int = 2) -> torch.Tensor:
-    """(H,W) costs of a map whose every window is costed exactly as its training target, stitched like
-    PACER's: the ceiling of the window protocol (a perfect PACER model scores this)."""
+                          overlap: int = 2, target: str = "in_view") -> torch.Tensor:
+    """(H,W) costs of a map whose every window is costed exactly as its training target (``target``:
+    ``pacer.data.train_target``), stitched like PACER's: the ceiling of the window protocol (a perfect
+    PACER model scores this)."""
     window = fov_mask.shape[0]
     padded = np.pad(np.asarray(labels, dtype=np.int64), window, mode="reflect")
 
     def costs(corners):
         return torch.from_numpy(np.stack([oracle_window_costs(padded[r:r + window, c:c + window], fov_mask,
-                                                              ordering) for r, c in corners]))
+                                                              ordering, target) for r, c in corners]))
 
     return stitch_windows(costs, labels.shape, fov_mask, overlap=overlap)
 

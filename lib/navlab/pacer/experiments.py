@@ -38,13 +38,19 @@ from navlab.pacer.evaluate import (
     plan_on_costmap,
     window_oracle_costmap,
 )
-from navlab.pacer.preferences import environment_tiers, order_terrains, rank_costs, target_costmap
+from navlab.pacer.preferences import (
+    environment_tiers,
+    mean_consistent_ranks,
+    order_terrains,
+    rank_costs,
+    target_costmap,
+)
 from navlab.pacer.terrain import TerrainBank
 
 Preference = Literal["realistic", "inverted"]
-# A method: (map, ordering of its terrains, context) -> costmap in [0, 1], or None when it cannot take
-# the preference at all (the classifier on unseen terrain).
-Method = Callable[[AerialMap, np.ndarray, np.ndarray], np.ndarray | None]
+# A method: (map, ordering of its terrains, context, the context's (preferred, other) terrain pairs) ->
+# costmap in [0, 1], or None when it cannot take the preference at all (the classifier on unseen terrain).
+Method = Callable[[AerialMap, np.ndarray, np.ndarray, np.ndarray], np.ndarray | None]
 
 
 @dataclass(frozen=True)
@@ -60,8 +66,9 @@ class NavigationResult:
 
 
 def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, preference: Preference,
-                informative: bool, seed: int, index: int) -> tuple[np.ndarray, np.ndarray]:
-    """(hidden ordering of the map's terrains, preference context) for one map and preference.
+                informative: bool, seed: int, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(hidden ordering of the map's terrains, preference context, its terrain pairs) for one map and
+    preference.
 
     Informative: the operator's pairs cover every terrain of the map where ``n_pairs`` allows (a
     superset of whatever a BEV window shows). Uninformative (questions 1b/2b): terrains of the other
@@ -70,32 +77,33 @@ def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, prefe
     gen = rng(seed, "pacer.navigation.context", preference, informative, index)
     ordering = order_terrains(amap.terrains, preference, bank, gen)
     if informative:
-        context, _ = preference_context(bank, ordering, gen, data)
+        context, pairs = preference_context(bank, ordering, gen, data)
     else:
         group = bank.terrains[int(amap.terrains[0])].group
-        context, _ = uninformative_context(bank, group, preference, gen, data)
-    return ordering, context
+        context, pairs = uninformative_context(bank, group, preference, gen, data)
+    return ordering, context, pairs
 
 
 def pacer_method(model: torch.nn.Module, data: PacerDataParams, device: str = "cpu") -> Method:
     mask = fov_mask(data.image_size, data.camera.near_width)
-    return lambda amap, ordering, context: costmap_over_map(
+    return lambda amap, ordering, context, pairs: costmap_over_map(
         model, torch.as_tensor(amap.image), torch.as_tensor(context), mask, device=device).numpy()
 
 
 def window_oracle_method(data: PacerDataParams) -> Method:
     """Reference row (ceiling): every BEV window costed exactly as its training target, stitched as PACER's."""
     mask = fov_mask(data.image_size, data.camera.near_width)
-    return lambda amap, ordering, context: window_oracle_costmap(amap.labels, ordering, mask).numpy()
+    return lambda amap, ordering, context, pairs: window_oracle_costmap(amap.labels, ordering, mask,
+                                                                 target=data.train_target).numpy()
 
 
 def uniform_method() -> Method:
     """Reference row (chance): the same cost everywhere, i.e. the plain shortest path."""
-    return lambda amap, ordering, context: np.zeros(amap.labels.shape, dtype=np.float32)
+    return lambda amap, ordering, context, pairs: np.zeros(amap.labels.shape, dtype=np.float32)
 
 
 def sterling_method(encoder: SterlingEncoder, steps: int) -> Method:
-    def cost(amap, ordering, context):
+    def cost(amap, ordering, context, pairs):
         utility = encoder.fit_utility(torch.as_tensor(context), steps)
         return encoder.costmap(torch.as_tensor(amap.image), utility).numpy()
     return cost
@@ -107,15 +115,27 @@ def classifier_method(classifier: SemanticClassifier, bank: TerrainBank, prefere
     ordering = order_terrains(known, preference, bank, rng(0, "pacer.classifier"))  # fixed orderings draw nothing
     table = dict(zip(ordering.tolist(), rank_costs(ordering).tolist()))
 
-    def cost(amap, _ordering, _context):
+    def cost(amap, _ordering, _context, _pairs):
         if not np.isin(amap.terrains, known).all():
             return None
         return classifier.costmap(torch.as_tensor(amap.image), table).numpy()
     return cost
 
 
+def context_limited_oracle_method() -> Method:
+    """Reference row: what a perfect follower of the context with no prior can reach. Each terrain of the
+    map costs its mean rank over every ordering of the map's terrains consistent with the context's
+    pairs (``mean_consistent_ranks``); pairs the context leaves open average out."""
+    def cost(amap, _ordering, _context, pairs):
+        terrains = np.asarray(amap.terrains, dtype=np.int64)
+        ranks = mean_consistent_ranks(terrains, pairs)
+        lookup = dict(zip(terrains.tolist(), (ranks / max(len(terrains) - 1, 1)).tolist()))
+        return np.vectorize(lookup.__getitem__, otypes=[np.float32])(amap.labels)
+    return cost
+
+
 def ground_truth_method() -> Method:
-    return lambda amap, ordering, context: target_costmap(amap.labels, ordering)
+    return lambda amap, ordering, context, pairs: target_costmap(amap.labels, ordering)
 
 
 def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Method, bool]], bank: TerrainBank,
@@ -136,8 +156,8 @@ def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Metho
     for name, (method, informative) in methods.items():
         per_map, paths[name] = [], []
         for index, amap in enumerate(maps):
-            ordering, context = map_context(bank, data, amap, preference, informative, seed, index)
-            costmap = method(amap, ordering, context)
+            ordering, context, pairs = map_context(bank, data, amap, preference, informative, seed, index)
+            costmap = method(amap, ordering, context, pairs)
             if costmap is None:
                 per_map = None
                 break

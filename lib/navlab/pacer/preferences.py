@@ -101,3 +101,42 @@ def pad_ordering(ordering: np.ndarray, length: int) -> np.ndarray:
     out = np.full(length, IGNORE, dtype=np.int64)
     out[: len(ordering)] = ordering
     return out
+
+
+def mean_consistent_ranks(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """float64 (L,): each of ``terrains``' mean 0-based rank over every ordering of them (most preferred
+    first) that agrees with ``pairs`` ((preferred, other) ids; pairs naming other terrains constrain
+    nothing). Counts linear extensions by dynamic programming over subsets, O(2^L L), exact for the
+    3-16 terrains of a map: ``prefix[S]`` orders S first, ``suffix[S]`` orders the rest after S."""
+    terrains = np.asarray(terrains, dtype=np.int64)
+    count = len(terrains)
+    if count > 20:
+        raise ValueError(f"{count} terrains: exact mean ranks need 2^L states; use at most 20")
+    index = {int(t): k for k, t in enumerate(terrains)}
+    before = [0] * count  # bitmask of the terrains each must follow
+    for a, b in np.asarray(pairs, dtype=np.int64).reshape(-1, 2):
+        if int(a) in index and int(b) in index and a != b:
+            before[index[int(b)]] |= 1 << index[int(a)]
+    full = (1 << count) - 1
+    prefix = [0] * (1 << count)
+    prefix[0] = 1
+    for s in range(1 << count):
+        if prefix[s]:
+            for k in range(count):
+                if not s >> k & 1 and before[k] & s == before[k]:
+                    prefix[s | 1 << k] += prefix[s]
+    suffix = [0] * (1 << count)
+    suffix[full] = 1
+    for s in range(full, -1, -1):
+        for k in range(count):
+            if not s >> k & 1 and before[k] & s == before[k]:
+                suffix[s] += suffix[s | 1 << k]
+    if prefix[full] == 0:
+        raise ValueError(f"pairs {np.asarray(pairs).tolist()} contradict each other: no ordering agrees with them")
+    ranks = np.zeros(count)
+    for s in range(1 << count):
+        if prefix[s]:
+            for k in range(count):
+                if not s >> k & 1 and before[k] & s == before[k]:
+                    ranks[k] += s.bit_count() * prefix[s] * suffix[s | 1 << k]
+    return ranks / prefix[full]

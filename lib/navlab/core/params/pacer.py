@@ -16,6 +16,9 @@ class PacerLayoutParams:
     path_probability: float = between(0.0, 1.0)  # chance of a trail band of one more terrain
     path_width: tuple[float, ...] = between(0.01, 1.0, length=2)  # trail width / image size
     boundary_warp: float = between(0.0, 1.0)  # region-boundary wobble / image size
+    # chance a training item is instead a window of a SuReNav train/val map (street network: thin sidewalks
+    # and strips, 2-4 terrains per window), the layouts the evaluation maps are cut from (issue 24)
+    street_windows: float = between(0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,7 @@ class PacerDataParams:
     n_pairs: int = between(1)
     train_context: Literal["in_view", "superset"]  # how training contexts are drawn (superset: as deployed)
     context_extra: int = between(0, 8)  # superset contexts: terrains beyond those in view
+    train_target: Literal["in_view", "context"]  # what a target ranks (see pacer.datasets)
     footprint_texels: tuple[float, ...] = between(8.0, 4096.0, length=2)
     synthetic_replace: float = between(0.0, 1.0)
     layout: PacerLayoutParams
@@ -78,6 +82,8 @@ class PacerDataParams:
     camera: PacerCameraParams
     sizes: PacerSizesParams
     aerial: PacerAerialParams
+
+
 @dataclass(frozen=True)
 class PacerModelParams:
     """The costmap network (pacer/model.py): a U-Net over the BEV image, a context encoder, a fusion."""
