@@ -57,8 +57,9 @@ def enumerate_lattice(start):
     search: its states (cell centres) and a sparse graph of dt-cost edges."""
     table, prune = primitive_table(SPEC), _swept(obs_pruner(ROOM, RADIUS), SPEC)
     start = snap(SPEC, np.asarray(start, float))
+    start[3] = (start[3] + math.pi) % (2 * math.pi) - math.pi
     key = lambda s: tuple(np.round(s, 6))
-    ids, states, edges, frontier = {key(start): 0}, [start], [], [start]
+    ids, states, edges, frontier = {key(start): 0}, [start], set(), [start]
     while frontier:
         s = frontier.pop()
         samples = successor_samples(SPEC, table, s)
@@ -72,9 +73,9 @@ def enumerate_lattice(start):
                 ids[k] = len(states)
                 states.append(end)
                 frontier.append(end)
-            edges.append((ids[key(s)], ids[k]))
+            edges.add((ids[key(s)], ids[k]))  # once: a sparse matrix sums duplicate entries
     states = np.array(states)
-    src, dst = np.array(edges).T
+    src, dst = np.array(sorted(edges)).T
     n = len(states)
     return states, coo_matrix((np.full(len(src), SPEC.dt), (src, dst)), shape=(n, n)).tocsr()
 
@@ -84,14 +85,18 @@ TASKS = [((0.4, 1.0, 0.0, 0.0), GOAL), ((0.4, 0.4, 0.0, math.pi / 2), GOAL),
 
 
 def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params):
-    """On the snapped (fixed-graph) lattice, A* with Dist and with the TTR grid returns the cost scipy's
-    Dijkstra finds on the enumerated graph, on several tasks. A* is optimal for an admissible heuristic:
-    checked here at every lattice state against the graph's own cost-to-go (the TTR grid is not
-    deflated: its interpolation may overestimate, and snapping lets the lattice move up to half a cell
-    and half a heading bin further per step than the car, so admissibility is a property of this lattice,
-    measured, not a theorem)."""
+    """On the snapped (fixed-graph) lattice, A* returns the cost scipy's Dijkstra finds on the enumerated
+    graph, on several tasks, with h = 0, with Dist and with the (smoke) TTR grid.
+
+    A* is optimal for a heuristic admissible on *this* graph, and snapping makes the graph faster than the
+    car: a step moves a node up to v_max·dt plus the snap, cell/√2. So the Dist that is admissible here
+    uses v_max + cell/(√2·dt) (checked at every node against the graph's own cost-to-go); the plain Dist
+    (v_max) exceeds it by up to 0.4 s here. The TTR grid is not admissible on it either (the smoke grid is
+    solved for the smoke robot, not this lattice, and by up to 3 s over): its equality below is measured
+    on these tasks, not guaranteed."""
     obs = obs_pruner(ROOM, RADIUS)
     ttr = load_ttr(smoke_params, grids)
+    v_snap = SPEC.v_max + SPEC.cell_m / (math.sqrt(2) * SPEC.dt)
     for start, goal in TASKS:
         states, graph = enumerate_lattice(start)
         at_goal = (np.hypot(states[:, 0] - goal.xy[0], states[:, 1] - goal.xy[1]) <= goal.tolerance) & (
@@ -99,11 +104,12 @@ def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params):
         best = dijkstra(graph, indices=0)[at_goal].min()
         assert np.isfinite(best)
         to_go = dijkstra(graph.T.tocsr(), indices=np.flatnonzero(at_goal), min_only=True)
-        for h in (zero_heuristic(), dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance), ttr_heuristic(ttr, goal.xy)):
+        for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance)):
             assert (h(states) <= to_go + 1e-9).all(), f"{h.name} is not admissible on this lattice"
+        for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance), ttr_heuristic(ttr, goal.xy)):
             res = search(SPEC, ROOM.bounds, states[0], goal, h, static=obs)
             assert res.status == "found" and res.cost == pytest.approx(best), (h.name, start)
-        ana = search(SPEC, ROOM.bounds, states[0], goal, dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance),
+        ana = search(SPEC, ROOM.bounds, states[0], goal, dist_heuristic(goal.xy, v_snap, goal.tolerance),
                      static=obs, anytime=True)
         assert ana.cost == pytest.approx(best)  # OPEN ran empty: the last solution is optimal
         assert ana.solution_costs == sorted(ana.solution_costs, reverse=True)
