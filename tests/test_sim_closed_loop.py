@@ -110,7 +110,8 @@ def test_the_car_drives_the_trajectory_its_plan_was_checked_on():
     run = run_patrol(Zigzag(None), room.obstacle_distance, start, [(8.6, 2.7)], [], SimSettings(trip_timeout_s=3.0),
                      np.random.default_rng(0))
     spec = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 1.0, 9, 4, 0.2, 24)
-    planned = densify(spec, start, plan, per_step=50)[50::50]
+    n = spec.samples_per_step * spec.micro_steps
+    planned = densify(spec, start, plan)[n::n]
     driven = {round(row[0], 6): row[1:] for row in run.trajectory}
     for k in (2, 4, 6):
         assert np.abs(driven[round(0.5 * k, 6)] - planned[k - 1]).max() < 1e-3

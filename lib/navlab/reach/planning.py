@@ -4,8 +4,11 @@ pruner, A* or ANA*, then the paper's feasibility check.
 ``Planner`` binds params.yaml (``hj.planner``, ``hj.grids``), the room and the stored value functions;
 ``run`` plans one task and returns a ``TaskResult`` with what the tables report: success (a plan within
 the budget that passes the densified check), expansions (to the first solution for ANA*, as the paper
-records them), cost, and time. The feasibility check replays the plan's controls 8 times finer than the
-search sampled them (``search.dubins_lattice.densify``) and requires positive clearance everywhere.
+records them), cost, and time. The feasibility check replays the plan's controls through every sub-step
+of the integration the lattice was built with (``search.dubins_lattice.densify``: 8 points per search
+sample) and requires positive exact clearance at each. Every segment the search accepts passed the swept
+collision check (``search.lattice_fields.swept_unsafe``; with the BRT pruner as well, as ``collision``),
+which provably keeps that replay clear, so a found plan that fails it is a bug: ``run`` raises.
 """
 
 from __future__ import annotations
@@ -49,13 +52,12 @@ def costmap_field(room: Room, robot_radius: float, decay: float, resolution: flo
     return sdf._replace(values=values)
 
 
-def plan_clearance(room: Room, robot_radius: float, spec: LatticeSpec, result: SearchResult,
-                   per_step: int = 32) -> float:
-    """The paper's feasibility check as a number: the smallest clearance (m) of the plan replayed densely
-    under the dynamics (feasible where positive); -inf without a plan."""
+def plan_clearance(room: Room, robot_radius: float, spec: LatticeSpec, result: SearchResult) -> float:
+    """The paper's feasibility check as a number: the smallest exact clearance (m) of the plan replayed
+    densely under the dynamics (feasible where positive); -inf without a plan."""
     if not result.found:
         return -math.inf
-    dense = densify(spec, result.states[0], result.controls, per_step)
+    dense = densify(spec, result.states[0], result.controls)
     return float(room.signed_distance(dense[:, 0], dense[:, 1], robot_radius).min())
 
 
@@ -104,6 +106,7 @@ class Planner:
                                                            log=log)
             margin = self.margin_report["margin"]
         self.margin = float(margin)
+        self._obs = obs_pruner(self.room, self.robot.radius_m)
         self.costmap = Costmap(costmap_field(self.room, self.robot.radius_m, self.p.cost_decay_per_m),
                                self.p.cost_weight) if costs else Costmap()
 
@@ -122,10 +125,15 @@ class Planner:
         if name == "none":
             return NO_STATIC
         if name == "OBS":
-            return obs_pruner(self.room, self.robot.radius_m)
+            return self._obs
         if name == "BRT":
             return static_brt_pruner(self._brt, self.margin)
         raise ValueError(f"pruner {name!r}: choose one of {', '.join(PRUNERS)}")
+
+    def collision(self, pruner: str):
+        """The swept collision check a search with ``pruner`` adds: OBS's own for BRT, none otherwise
+        (OBS sweeps already; "none" checks nothing)."""
+        return self._obs if pruner == "BRT" else NO_STATIC
 
     def run(self, start, goal_xy, heuristic: str, pruner: str, algorithm: str) -> tuple[TaskResult, SearchResult]:
         if algorithm not in ("A*", "ANA*"):
@@ -134,13 +142,18 @@ class Planner:
         tol = self.p.goal_tolerance_anastar_m if anytime else self.p.goal_tolerance_astar_m
         goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
         res = search(self.spec, self.room.bounds, start, goal, self.heuristic(heuristic, goal_xy, tol),
-                     static=self.pruner(pruner), costmap=self.costmap, anytime=anytime, table=self.table,
+                     static=self.pruner(pruner), collision=self.collision(pruner), costmap=self.costmap,
+                     anytime=anytime, table=self.table,
                      max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions,
                      time_limit_s=self.p.anastar_time_limit_s if anytime else math.inf)
+        clearance = plan_clearance(self.room, self.robot.radius_m, self.spec, res)
+        if res.found and clearance <= 0.0 and pruner != "none":
+            raise AssertionError(f"{algorithm} with {heuristic} + {pruner} from {tuple(np.round(start, 3))} returned a "
+                                 f"plan {-1000 * clearance:.2f} mm inside an obstacle by the dense check, which the "
+                                 f"swept collision check rules out: a bug in the check or the replay")
         first = res.first_solution_expansions if anytime else None
         out = TaskResult(
-            heuristic, pruner, algorithm, tuple(map(float, start)), goal.xy, res.status, res.found,
-            plan_clearance(self.room, self.robot.radius_m, self.spec, res),
+            heuristic, pruner, algorithm, tuple(map(float, start)), goal.xy, res.status, res.found, clearance,
             int(first if first is not None else res.expansions), res.expansions, res.cost,
             res.solution_costs[0] if res.solution_costs else res.cost, res.seconds,
             res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf))
@@ -157,7 +170,8 @@ class Planner:
         for start, goal_xy in tasks:
             goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
             res = search(self.spec, self.room.bounds, start, goal, zero_heuristic(), static=self.pruner(pruner),
-                         costmap=self.costmap, table=self.table, max_expansions=self.p.astar_max_expansions)
+                         collision=self.collision(pruner), costmap=self.costmap, table=self.table,
+                         max_expansions=self.p.astar_max_expansions)
             if not res.found:
                 continue
             solved += 1

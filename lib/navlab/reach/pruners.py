@@ -4,8 +4,10 @@ FI-BRT (Eq. 14-18, Table X).
 All take whole segments: a pruner sees the ``samples_per_step`` points of every primitive of one
 expansion (the paper's Table VII: 140 states per call) and drops a successor when any point fails.
 
-- ``obs_pruner``: the instantaneous check: clearance (exact signed distance to the room's walls and
-  obstacles, sampled on a fine raster) minus the robot radius must be > 0;
+- ``obs_pruner``: the collision check: clearance (exact signed distance to the room's walls and
+  obstacles, sampled on a fine raster) minus the robot radius and the raster's error bound
+  (``field_error``) must be > 0 at a state, and along a segment the swept check of
+  ``lattice_fields.swept_unsafe`` (the search's, and the simulator's re-check) bounds it between samples;
 - ``static_brt_pruner``: the static-map BRT value must be > ``margin``, a margin measured against a finer
   solve (``reach.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
 - ``human_pruner``: the human-robot BRT with the humans fixed at their observed positions (prediction
@@ -58,10 +60,26 @@ def clearance_field(room: Room, resolution: float = 0.02) -> GridField:
                                (room.width / (nx - 1), room.height / (ny - 1)), (False, False))
 
 
+FLOAT32_SLACK_M = 1e-5  # the raster's float32 rounding (< 1e-6 m at room scale) and the replay's, with room to spare
+
+
+def field_error(field: GridField) -> float:
+    """How far the bilinear interpolant of a 1-Lipschitz distance raster can exceed the true distance.
+
+    The interpolant at p is Σ w_i d(c_i) over its cell's corners, and d(c_i) <= d(p) + |c_i − p|, so it
+    exceeds d(p) by at most Σ w_i |c_i − p| <= sqrt(Σ w_i |c_i − p|²) = sqrt(hx² tx(1−tx) + hy² ty(1−ty))
+    <= |(hx, hy)| / 2: half the cell diagonal (1.4 cm on the 2 cm raster), plus float32 rounding.
+    """
+    return 0.5 * math.hypot(*(1.0 / np.asarray(field.inv_spacing))) + FLOAT32_SLACK_M
+
+
 def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
+    """The OBS pruner: value = interpolated clearance − (radius + ``field_error``), a lower bound on the true
+    clearance minus the radius (> 0 is collision-free)."""
     if not (math.isfinite(robot_radius) and robot_radius >= 0):  # NaN: clearance - NaN <= 0 is never true
         raise ValueError(f"OBS robot_radius {robot_radius}: must be a finite number >= 0 (metres)")
-    return StaticPruner(S_OBS, clearance_field(room, resolution), np.array([robot_radius, -1.0]), "OBS")
+    field = clearance_field(room, resolution)
+    return StaticPruner(S_OBS, field, np.array([robot_radius + field_error(field), -1.0]), "OBS")
 
 
 def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:

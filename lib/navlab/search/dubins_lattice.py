@@ -10,11 +10,14 @@ expansion then only rotates and translates a table row (no integration in the ho
 
 Nodes keep their continuous state and are identified by a snapped cell ``(⌊x/c⌋, ⌊y/c⌋, level,
 round(θ/bin))`` for duplicate detection, as Nav2's Smac hybrid A* does. With ``snap_states`` the node
-state is moved to its cell's centre instead: the lattice is then a fixed graph, which is what an
-independent Dijkstra can check the search against.
+state is moved to its cell's centre after its segment was checked as driven: the lattice is then a fixed
+graph, which is what an independent Dijkstra can check the search against (its plans jump by up to half
+a cell and half a heading bin at every node, so they are not trajectories the car can drive).
 
 ``integrate`` (plain numpy, any number of micro-steps) is the reference integrator; ``densify`` replays a
-plan's controls with it, finer than the search did, for the paper's feasibility check.
+plan's controls with it for the paper's feasibility check, through the very points the table was
+integrated on (``samples_per_step × micro_steps`` per step), which the search's swept collision check
+(``lattice_fields.swept_unsafe``) provably covers.
 """
 
 from __future__ import annotations
@@ -38,13 +41,14 @@ class LatticeSpec:
     cell_m: float
     heading_bins: int
     snap_states: bool = False
-    micro_steps: int = 4  # midpoint-rule sub-steps per sample when building the table
+    micro_steps: int = 8  # midpoint-rule sub-steps per sample when building the table (and the dense check's)
 
     def __post_init__(self):
         if self.dt <= 0 or self.v_max <= 0 or self.cell_m <= 0:
             raise ValueError(f"LatticeSpec: dt, v_max and cell_m must be > 0; got {self}")
-        if self.speed_levels < 2 or self.heading_bins < 4 or self.samples_per_step < 1:
-            raise ValueError("LatticeSpec: need speed_levels >= 2, heading_bins >= 4, samples_per_step >= 1")
+        if self.speed_levels < 2 or self.heading_bins < 4 or self.samples_per_step < 1 or self.micro_steps < 1:
+            raise ValueError("LatticeSpec: need speed_levels >= 2, heading_bins >= 4, samples_per_step >= 1, "
+                             "micro_steps >= 1")
         if not self.accelerations or not self.turn_rates:
             raise ValueError("LatticeSpec: accelerations and turn_rates must not be empty")
         for a in self.accelerations:
@@ -137,16 +141,16 @@ def place(rows: np.ndarray, state: np.ndarray) -> np.ndarray:
     return out
 
 
-def densify(spec: LatticeSpec, start: np.ndarray, controls: np.ndarray, per_step: int = 32) -> np.ndarray:
-    """Replay a plan's controls from ``start`` with ``per_step`` sub-steps per primitive: (1 + K·per_step, 4).
-
-    With ``snap_states`` the search re-centres each node on its cell, so the replay does the same at every
-    node (the plan's states are the cell centres it moved between).
-    """
+def densify(spec: LatticeSpec, start: np.ndarray, controls: np.ndarray) -> np.ndarray:
+    """Replay a plan's controls from ``start``: (1 + K·n, 4), n = ``samples_per_step × micro_steps`` sub-steps
+    per primitive, the integration the table was built with (every ``micro_steps``-th point is a sample
+    the search checked; the swept check bounds the path between them). With ``snap_states`` each step
+    starts from its node's cell centre, as the search's do."""
+    n = spec.samples_per_step * spec.micro_steps
     points = [np.asarray(start, dtype=np.float64)[None]]
     state = np.asarray(start, dtype=np.float64)
     for a, w in np.asarray(controls, dtype=np.float64).reshape(-1, 2):
-        seg = integrate(state, a, w, spec.dt, per_step, spec.v_max)
+        seg = integrate(state, a, w, spec.dt, n, spec.v_max)
         points.append(seg)
         state = snap(spec, seg[-1]) if spec.snap_states else seg[-1]
     return np.concatenate(points)

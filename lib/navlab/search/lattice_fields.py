@@ -17,7 +17,8 @@ Heuristic kinds (``H_*``), all in seconds, evaluated at a successor state (x, y,
 
 Pruner kinds, static (``S_*``) and human (``U_*``), each returns True where a segment must be dropped:
 
-- ``S_OBS``: robot clearance (2D signed-distance field − radius) <= 0 at any segment sample;
+- ``S_OBS``: the conservative collision check (``swept_unsafe``): the path from the parent through the
+  segment's samples may come within the robot radius of an obstacle (2D signed-distance field);
 - ``S_BRT``: static-map BRT value <= margin at any sample (paper Eq. 12); off the room: pruned;
 - ``U_FS``: human-robot BRT value < m at any sample, for any human (feasible-set pruning);
 - ``U_FI``: FS, or the forward-invariance condition of Eq. 14 with the finite difference of Eq. 15,
@@ -260,6 +261,53 @@ def first_unsafe(kind, fv, fmin, m, par, samples, i, n):
     return -1
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def obs_clearance(fv, m, par, x, y):
+    """The OBS field's value at (x, y) minus its threshold (off the grid: ``par[1]`` minus it)."""
+    return par[1] - par[0] if _outside_xy(m, x, y) else interp2(fv, m, x, y) - par[0]
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def swept_unsafe(fv, fmin, m, par, q0, v0, step, samples, i, n):
+    """Index of the first of the ``n`` samples of segment ``i`` whose path from the previous sample may
+    come within the robot's radius of an obstacle, or -1: the conservative collision check of S_OBS.
+
+    ``q0``/``v0``: the parent's clearance lower bound (``obs_clearance``) and speed; ``step``: the time between
+    samples. Why it is conservative: the field's threshold ``par[0]`` is the robot radius plus a bound on
+    the field's error (``reach.pruners.obs_pruner``), so q = value − threshold is a lower bound on the true
+    distance minus the radius. The true distance d is 1-Lipschitz, so any point p of the path between
+    samples a and b of arc length ≤ L has d(p) ≥ max(d(a) − |pa|, d(b) − |pb|) ≥ (d(a) + d(b) − L) / 2;
+    the speed is monotone over a primitive, so L ≤ step · max(v_a, v_b). q_a + q_b > L therefore keeps
+    every point of the path (and every point of its dense replay) farther than the radius. Each q is
+    the cell's corner minimum (``cell_min``) when that already decides both of its intervals, else the
+    interpolant, so the decisions are those of the interpolant alone.
+    """
+    q_prev, v_prev, exact_prev = q0, v0, True
+    px, py = 0.0, 0.0
+    for j in range(n):
+        x, y, v = samples[i, j, 0], samples[i, j, 1], samples[i, j, 2]
+        v_next = samples[i, j + 1, 2] if j + 1 < n else v
+        length = step * max(v_prev, v)
+        exact = True
+        if _outside_xy(m, x, y):
+            q = par[1] - par[0]
+        else:
+            q = fmin[cell_index(m, x, y, 0.0, 0.0)] - par[0]
+            if q > 0.5 * step * max(v_prev, v, v_next):
+                exact = False  # clears both its intervals: a lower bound is enough
+            else:
+                q = interp2(fv, m, x, y) - par[0]
+        if q_prev + q <= length:
+            if not exact_prev:  # the bound was not enough after all: the interpolant decides
+                q_prev = obs_clearance(fv, m, par, px, py)
+            if not exact:
+                q, exact = obs_clearance(fv, m, par, x, y), True
+            if q_prev + q <= length:
+                return j
+        q_prev, v_prev, exact_prev, px, py = q, v, exact, x, y
+    return -1
+
+
 @numba.njit(cache=True, error_model="numpy")
 def human_value(fv, m, par, x, y, v, th, hx, hy):
     """Human-robot BRT value for a robot state and a human position (reach.lookup.HumanBRTLookup).
@@ -333,6 +381,19 @@ def static_prune_batch(kind, f, fmin, par, samples):
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
         out[i] = first_unsafe(kind, fv, fmin, m, par, samples, i, samples.shape[1]) >= 0
+    return out
+
+
+@numba.njit(cache=True, error_model="numpy")
+def swept_prune_batch(f, fmin, par, parents, samples, steps):
+    """parents (N, 4), samples (N, S, 4), steps (N,) (time between samples): True for each segment whose
+    path from its parent through its samples fails ``swept_unsafe``."""
+    fv, m = field_meta(f)
+    out = np.zeros(samples.shape[0], np.bool_)
+    for i in range(samples.shape[0]):
+        q0 = obs_clearance(fv, m, par, parents[i, 0], parents[i, 1])
+        out[i] = q0 <= 0.0 or swept_unsafe(fv, fmin, m, par, q0, parents[i, 2], steps[i], samples, i,
+                                            samples.shape[1]) >= 0
     return out
 
 

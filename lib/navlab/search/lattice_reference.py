@@ -20,11 +20,12 @@ from navlab.search.dubins_lattice import LatticeSpec, primitive_table, successor
 
 def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float, max_speed: float,
                     heuristic: Callable[[np.ndarray], np.ndarray],
-                    prune: Callable[[np.ndarray], np.ndarray] | None = None,
+                    prune: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
                     max_expansions: int = 10**6) -> tuple[float, int]:
     """(cost, expansions) of A* from ``start`` to the goal disc; cost is inf when none is found.
 
-    ``heuristic``: (N, 4) states -> (N,) seconds; ``prune``: (N, S, 4) segments -> (N,) True = drop.
+    ``heuristic``: (N, 4) states -> (N,) seconds; ``prune``: the parent (4,) and its (N, S, 4) segments ->
+    (N,) True = drop (an OBS pruner's ``swept`` check needs the parent).
     The step cost is ``dt`` (time).
     """
     if spec.snap_states:
@@ -60,7 +61,7 @@ def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float,
         samples[:, -1, 3] = (samples[:, -1, 3] + math.pi) % (2 * math.pi) - math.pi
         ends = samples[:, -1]
         inside = (ends[:, 0] >= 0) & (ends[:, 0] < x1) & (ends[:, 1] >= 0) & (ends[:, 1] < y1)
-        keep = inside & ~prune(samples) if prune is not None else inside
+        keep = inside & ~prune(s, samples) if prune is not None else inside
         ng = g[c] + spec.dt
         candidates = [(i, cell(ends[i])) for i in np.flatnonzero(keep)]
         candidates = [(i, nc) for i, nc in candidates if ng < g.get(nc, math.inf)]

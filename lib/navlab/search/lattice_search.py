@@ -11,7 +11,8 @@ r"""A* and ANA* on the Dubins lattice, compiled with numba (HJ-search paper, Sec
 
 The expansion loop, the look-ups (``lattice_fields``) and the heap are one compiled function: an
 expansion rotates the precomputed primitive table (``dubins_lattice``), checks the pruners on the
-``samples_per_step`` points of every segment and evaluates the heuristic of improved successors.
+``samples_per_step`` points of every segment (an OBS pruner sweeps the path between them, provably:
+``lattice_fields.swept_unsafe``) and evaluates the heuristic of improved successors.
 The cost of a step is ``dt · (1 + w · c(x, y))`` with ``c`` an optional state-cost raster (the paper's
 Nav2 costmap term; w = 0 gives time, the paper's "state cost 1.0"), so time heuristics stay admissible.
 ``lattice_reference.py`` is the plain-Python heapq twin that the tests and benchmarks compare against.
@@ -27,10 +28,11 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from navlab.search.dubins_lattice import LatticeSpec, first_step, primitive_table
+from navlab.search.dubins_lattice import LatticeSpec, first_step, primitive_table, snap
 from navlab.search.lattice_fields import (
     H_ZERO,
     S_NONE,
+    S_OBS,
     U_NONE,
     GridField,
     cell_min,
@@ -41,8 +43,12 @@ from navlab.search.lattice_fields import (
     human_prune_batch,
     human_prunes,
     interp2,
+    obs_clearance,
     static_prune_batch,
     static_value_batch,
+    swept_prune_batch,
+    swept_unsafe,
+    wrap,
 )
 
 FOUND, EXPANSION_LIMIT, TIME_LIMIT, NO_PATH = 0, 1, 2, 3
@@ -79,6 +85,21 @@ class StaticPruner:
     def __call__(self, samples: np.ndarray) -> np.ndarray:
         """(N, S, 4) segment samples (all successors of one expansion) -> (N,) True where pruned."""
         return static_prune_batch(self.kind, self.field, self.lower, self.par, _segments(samples))
+
+    def swept(self, parents: np.ndarray, samples: np.ndarray, durations: np.ndarray) -> np.ndarray:
+        """The conservative collision check of an OBS pruner (``lattice_fields.swept_unsafe``): parents
+        (N, 4), their segments' samples (N, S, 4), equally spaced over ``durations`` (N,) s -> (N,) True
+        where the path from a parent through its samples may touch an obstacle."""
+        if self.kind != S_OBS:
+            raise ValueError(f"the {self.name or 'static'} pruner has no swept collision check: use an OBS "
+                             f"pruner (reach.pruners.obs_pruner)")
+        parents, samples = _states(parents, "parents"), _segments(samples)
+        if len(parents) != len(samples):
+            raise ValueError(f"{len(parents)} parents for {len(samples)} segments: give each segment its parent")
+        steps = _times(durations, len(samples), "durations") / samples.shape[1]
+        if (steps < 0).any():
+            raise ValueError("durations must be >= 0 s")
+        return swept_prune_batch(self.field, self.lower, self.par, parents, samples, steps)
 
     def values(self, states: np.ndarray) -> np.ndarray:
         """The safety value minus the threshold at (N, 4) states (> 0 is kept)."""
@@ -291,8 +312,17 @@ def _ana_key(G, g, h):
 
 
 @numba.njit(cache=True, error_model="numpy")  # no zero-division checks (and their error paths) in the loop
-def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, hp, sk, sf, sb, sp, uk, uf, up, humans,
-            use_cost, cf, cost_w, max_expansions, time_limit):
+def _search(anytime, start, goal, table, root, lattice, heur, static, collision, human, cost, limits):
+    """The compiled A*/ANA* loop. Bundles (``search`` builds them): lattice (dt, cell_m, dims, snap); heur (kind,
+    field, par); static and collision (kind, field, cell minima, par) of two static pruners; human (kind,
+    field, par, humans); cost (use_cost, field, weight); limits (max_expansions, time_limit)."""
+    dt, cell_m, dims, snap = lattice
+    hk, hf, hp = heur
+    sk, sf, sb, sp = static
+    ck, cf_, cb, cp = collision
+    uk, uf, up, humans = human
+    use_cost, cf, cost_w = cost
+    max_expansions, time_limit = limits
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
     n_cells = nx * ny * nlev * nbins
@@ -315,9 +345,11 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
     samples = segment[0]
     bin_w = 2.0 * math.pi / nbins
     v_top = goal[4]  # the lattice's v_max
+    step_t = dt / n_samp  # time between a segment's samples (the swept check's interval)
     t0 = _now()
     hv, hm = field_meta(hf)
     sv, sm = field_meta(sf)
+    cv_, cm_ = field_meta(cf_)
     uv, um = field_meta(uf)
     cv, cm = field_meta(cf)
     x_goal, y_goal, tol2, v_goal = goal[0], goal[1], goal[2] * goal[2], goal[3] + 1e-9
@@ -400,6 +432,9 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
         # the start's own first-step primitives (its exact speed, ``first_step``), the level's table after
         rows = root if cur == 0 else table[round(sv_ / v_top * (nlev - 1))]
         cth, sth_ = math.cos(sth), math.sin(sth)
+        # the parent's clearance lower bounds, where an OBS check sweeps the path from it
+        sq0 = obs_clearance(sv, sm, sp, sx, sy) if sk == S_OBS else 0.0
+        cq0 = obs_clearance(cv_, cm_, cp, sx, sy) if ck == S_OBS else 0.0
         for p in range(n_prim):
             # the successor first (most are no improvement on their cell: no segment, no look-up for them)
             r0, r1 = rows[p, last, 0], rows[p, last, 1]
@@ -407,17 +442,18 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
             ey = sy + sth_ * r0 + cth * r1
             ev = rows[p, last, 2]
             eth = sth + rows[p, last, 3]
-            if snap:
-                ex = (math.floor(ex / cell_m) + 0.5) * cell_m
-                ey = (math.floor(ey / cell_m) + 0.5) * cell_m
-                eth = round(eth / bin_w) * bin_w
             eth = (eth + math.pi) % (2.0 * math.pi) - math.pi
             nc = cell_of(ex, ey, ev, eth)
             if nc < 0:
                 continue
+            kx, ky, kth = ex, ey, eth  # the node's state: the segment's end, or its cell's centre
+            if snap:  # (the segment itself is checked as driven)
+                kx = (math.floor(ex / cell_m) + 0.5) * cell_m
+                ky = (math.floor(ey / cell_m) + 0.5) * cell_m
+                kth = wrap(round(eth / bin_w) * bin_w)
             step = dt
             if use_cost:
-                step = dt * (1.0 + cost_w * interp2(cv, cm, ex, ey))
+                step = dt * (1.0 + cost_w * interp2(cv, cm, kx, ky))
             ng = g_cur + step
             if ng >= g[nc]:
                 continue
@@ -429,13 +465,21 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
                 samples[j, 3] = sth + rows[p, j, 3]
             samples[last, 0], samples[last, 1], samples[last, 2], samples[last, 3] = ex, ey, ev, eth
             if sk != S_NONE:
-                bad = first_unsafe(sk, sv, sb, sm, sp, segment, 0, n_samp)
+                if sk == S_OBS:
+                    bad = swept_unsafe(sv, sb, sm, sp, sq0, sv_, step_t, segment, 0, n_samp)
+                else:
+                    bad = first_unsafe(sk, sv, sb, sm, sp, segment, 0, n_samp)
+                p_evals += bad + 1 if bad >= 0 else n_samp
+                if bad >= 0:
+                    continue
+            if ck != S_NONE:
+                bad = swept_unsafe(cv_, cb, cm_, cp, cq0, sv_, step_t, segment, 0, n_samp)
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
             if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, tn[cur], dt, samples, n_samp):
                 continue
-            h = heuristic(hk, hv, hm, hp, ex, ey, ev, eth)
+            h = heuristic(hk, hv, hm, hp, kx, ky, ev, kth)
             h_evals += 1
             if anytime and ng + h >= G:
                 continue
@@ -448,7 +492,7 @@ def _search(anytime, start, goal, table, root, dt, cell_m, dims, snap, hk, hf, h
                 tn = np.concatenate((tn, np.empty_like(tn)))
             node = n_nodes
             n_nodes += 1
-            st[node, 0], st[node, 1], st[node, 2], st[node, 3] = ex, ey, ev, eth
+            st[node, 0], st[node, 1], st[node, 2], st[node, 3] = kx, ky, ev, kth
             parent[node], prim[node], cell[node], hval[node] = cur, p, nc, h
             tn[node] = tn[cur] + dt
             g[nc] = ng
@@ -486,31 +530,48 @@ def replay(spec: LatticeSpec, table: np.ndarray, start: np.ndarray, prims: np.nd
     ``root``: the first step's rows from an off-level start speed, ``dubins_lattice.first_step``)."""
     states = [np.asarray(start, np.float64)]
     cost = 0.0
-    bin_w = 2 * math.pi / spec.heading_bins
     for i, p in enumerate(prims):
         x, y, v, th = states[-1]
         row = root[p, -1] if i == 0 and root is not None else table[spec.level(round(v / spec.dv) * spec.dv), p, -1]
         c, s = math.cos(th), math.sin(th)
         end = np.array([x + c * row[0] - s * row[1], y + s * row[0] + c * row[1], row[2], th + row[3]])
-        if spec.snap_states:
-            end[0] = (math.floor(end[0] / spec.cell_m) + 0.5) * spec.cell_m
-            end[1] = (math.floor(end[1] / spec.cell_m) + 0.5) * spec.cell_m
-            end[3] = round(end[3] / bin_w) * bin_w
         end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
+        if spec.snap_states:
+            end = snap(spec, end)
+            end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
         states.append(end)
         w = 0.0 if costmap.field is None else costmap.weight * float(interp2(*field_meta(costmap.field), end[0], end[1]))
         cost += spec.dt * (1.0 + w)
     return np.array(states), cost
 
 
+def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
+    """A clear error for a start the pruner drops or a goal it drops wholly (no search could reach it)."""
+    name = pruner.name or "static"
+    clearance = float(pruner.values(start[None])[0])
+    if clearance <= 0.0:
+        raise ValueError(f"start {tuple(start.round(3))} is already pruned by the {name} pruner (value "
+                         f"{clearance:.3f} <= 0: in collision or inside the BRT); move the start")
+    clearance = pruner.goal_clearance(goal)
+    if clearance + 1e-9 <= 0.0:  # 1e-9: an interpolant may round above its corners' maximum
+        raise ValueError(f"goal {goal.xy} (tolerance {goal.tolerance} m) is wholly pruned by the {name} pruner "
+                         f"(value <= {clearance:.3f} at every state within it: in collision or inside the BRT), "
+                         f"so no search can reach it; move the goal")
+
+
 def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *,
-           static: StaticPruner = NO_STATIC, human: HumanPruner = NO_HUMAN, costmap: Costmap = Costmap(),
-           anytime: bool = False, max_expansions: int = 10**6, time_limit_s: float = math.inf,
-           table: np.ndarray | None = None) -> SearchResult:
+           static: StaticPruner = NO_STATIC, collision: StaticPruner = NO_STATIC, human: HumanPruner = NO_HUMAN,
+           costmap: Costmap = Costmap(), anytime: bool = False, max_expansions: int = 10**6,
+           time_limit_s: float = math.inf, table: np.ndarray | None = None) -> SearchResult:
     """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)).
 
     The start's speed need not be a level: its first step then uses ``first_step``'s primitives (the
     returned first control carries their adjusted acceleration), every later step the level table.
+
+    ``static``: the paper's pruner (OBS or BRT); ``collision``: an OBS pruner whose conservative swept
+    check (``lattice_fields.swept_unsafe``) every segment must pass as well, so that a BRT-pruned plan,
+    checked by the BRT only at its samples, never touches an obstacle between them (an OBS ``static``
+    already sweeps).
 
     ``anytime=False``: A* until the goal is popped or ``max_expansions``. ``anytime=True``: ANA* until
     OPEN is empty (the last solution is optimal), ``max_expansions`` or ``time_limit_s``.
@@ -524,28 +585,23 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
         if not (0.0 <= x < x1 and 0.0 <= y < y1):
             raise ValueError(f"{name} {(float(x), float(y))} is outside the map [0, {x1}) × [0, {y1}); "
                              f"choose a position inside it")
-    if static.kind != S_NONE:
-        clearance = float(static.values(start[None])[0])
-        if clearance <= 0.0:
-            raise ValueError(f"start {tuple(start.round(3))} is already pruned by the {static.name or 'static'} "
-                             f"pruner (value {clearance:.3f} <= 0: in collision or inside the BRT); move the start")
-        clearance = static.goal_clearance(goal)
-        if clearance + 1e-9 <= 0.0:  # 1e-9: an interpolant may round above its corners' maximum
-            raise ValueError(f"goal {goal.xy} (tolerance {goal.tolerance} m) is wholly pruned by the "
-                             f"{static.name or 'static'} pruner (value <= {clearance:.3f} at every state within "
-                             f"it: in collision or inside the BRT), so no search can reach it; move the goal")
+    if collision.kind not in (S_NONE, S_OBS):
+        raise ValueError(f"collision must be an OBS pruner (reach.pruners.obs_pruner), got {collision.name!r}")
+    for pruner in (static, collision):
+        if pruner.kind != S_NONE:
+            _check_ends(pruner, start, goal)
     if spec.snap_states:
-        from navlab.search.dubins_lattice import snap
-
         start = snap(spec, start)
     table = primitive_table(spec) if table is None else table
     root, root_controls = first_step(spec, float(start[2]))
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
-    out = _search(anytime, start, goal_arr, table, root, spec.dt, spec.cell_m, dims, spec.snap_states,
-                  heuristic_.kind, heuristic_.field, heuristic_.par, static.kind, static.field, static.lower, static.par,
-                  human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64),
-                  costmap.field is not None, cf, float(costmap.weight), int(max_expansions), float(time_limit_s))
+    out = _search(anytime, start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
+                  (heuristic_.kind, heuristic_.field, heuristic_.par),
+                  (static.kind, static.field, static.lower, static.par),
+                  (collision.kind, collision.field, collision.lower, collision.par),
+                  (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64)),
+                  (costmap.field is not None, cf, float(costmap.weight)), (int(max_expansions), float(time_limit_s)))
     status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
     found = status == FOUND
     states, cost = replay(spec, table, start, prims, costmap, root) if found else (start[None], math.inf)

@@ -31,7 +31,8 @@ executing (the braking time; re-checked whole, the open-loop rest of a 15 s plan
 ``samples_per_step`` points per step — and, if it passes,
 answers ``None``: the car keeps executing it (a plan proven infeasible, or one the re-check rejects, still
 makes the car brake). The re-check is the human pruner (the humans have moved) and, for the static map,
-collision: clearance > robot radius (the OBS test; with ``"obs"`` the humans' discs included). Not the
+collision: the swept OBS check (``lattice_fields.swept_unsafe``, as in the search: the path between the
+re-check's samples is covered too; with ``"obs"`` the humans' discs included). Not the
 static BRT again: the map has not changed, the plan passed the BRT when it was made, and an optimal plan
 runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time. A kept
 plan must also leave the simulator's fallback, braking straight, clear of the walls from any point of its
@@ -71,10 +72,18 @@ import numpy as np
 
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
-from navlab.reach.pruners import FIParams, clearance_field, human_pruner
+from navlab.reach.pruners import FIParams, clearance_field, human_pruner, obs_pruner
 from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, place, primitive_table
 from navlab.search.lattice_fields import GridField
-from navlab.search.lattice_search import NO_HUMAN, Goal, Heuristic, StaticPruner, require_finite, search
+from navlab.search.lattice_search import (
+    NO_HUMAN,
+    NO_STATIC,
+    Goal,
+    Heuristic,
+    StaticPruner,
+    require_finite,
+    search,
+)
 from navlab.sim.receding_horizon import Evasion
 
 HUMAN_MODES = ("fi", "fs", "obs", "none")
@@ -114,6 +123,7 @@ class LatticePolicy:
     reuse_horizon_s: float = 2.0  # s of the kept plan re-checked: the braking time from v_max = 1 m/s at 0.5 m/s²
     expansions: list[int] = field(default_factory=list)
     _table: np.ndarray = field(init=False, repr=False)
+    _obs: StaticPruner = field(init=False, repr=False)  # the swept collision check (with a BRT static pruner)
     _heuristics: dict = field(init=False, repr=False, default_factory=dict)
     _clearance: GridField | None = field(init=False, repr=False, default=None)
     _points: tuple[np.ndarray, np.ndarray] | None = field(init=False, repr=False, default=None)
@@ -132,6 +142,7 @@ class LatticePolicy:
             raise ValueError("human_mode 'obs' adds the humans to the OBS clearance field: pass an OBS static "
                              "pruner (reach.pruners.obs_pruner)")
         self._table = primitive_table(self.spec)
+        self._obs = obs_pruner(self.room, self.robot_radius)
         if self.human_mode == "obs":
             self._clearance = clearance_field(self.room)
             n = self._clearance.shape
@@ -179,8 +190,8 @@ class LatticePolicy:
         spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
         budget = spent + self.max_expansions
         result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
-                        self._heuristics[goal], static=static, human=human, max_expansions=budget,
-                        anytime=self.anytime, table=self._table)
+                        self._heuristics[goal], static=static, collision=self._collision(static), human=human,
+                        max_expansions=budget, anytime=self.anytime, table=self._table)
         self.expansions.append(result.expansions - spent)  # this period's share
         go_on = (at_rest and not result.found and result.status == "expansion limit"
                  and budget < self.rest_periods * self.max_expansions)
@@ -197,6 +208,10 @@ class LatticePolicy:
         if human.kind != NO_HUMAN.kind:
             return self._evade(state, humans, velocities)
         return np.zeros((0, 2))
+
+    def _collision(self, static: StaticPruner) -> StaticPruner:
+        """The search's swept collision check: an OBS static pruner is one; a BRT one gets ``_obs``."""
+        return NO_STATIC if static.name == "OBS" else self._obs
 
     def _evade(self, state: np.ndarray, humans: np.ndarray, velocities: np.ndarray) -> Evasion | np.ndarray:
         """No plan found: brake straight, unless that step would take the human-robot BRT value below the
@@ -215,8 +230,8 @@ class LatticePolicy:
         brake = int(np.argmin(np.where(controls[:, 1] == 0.0, controls[:, 0], np.inf)))  # hardest, straight
         if value[brake] >= self.fi.margin:
             return np.zeros((0, 2))
-        clear = np.array([(self.room.signed_distance(seg[:, 0], seg[:, 1], self.robot_radius) > 0.0).all()
-                          and self._brakes_clear(seg[-1:]) for seg in samples])
+        swept = self._obs.swept(np.broadcast_to(state, (n, 4)), samples, np.full(n, self.spec.dt))
+        clear = np.array([not hit and self._brakes_clear(seg[-1:]) for hit, seg in zip(swept, samples, strict=True)])
         if not clear.any():
             return np.zeros((0, 2))
         best = int(np.argmax(np.where(clear, value, -np.inf)))
@@ -271,9 +286,7 @@ class LatticePolicy:
         parents, segments = np.array(parents), np.array(segments)
         if not self._brakes_clear(segments[0]) and self._brakes_clear(np.asarray(observation.robot, float)[None]):
             return False  # braking now is the escape the plan would give up
-        if static.name == "OBS":  # clearance (with "obs": the humans' discs too)
-            if static(segments).any():
-                return False
-        elif (self.room.signed_distance(segments[..., 0], segments[..., 1], self.robot_radius) <= 0.0).any():
+        check = static if static.name == "OBS" else self._obs  # with "obs": the humans' discs too
+        if check.swept(parents, segments, np.array(durations)).any():
             return False
         return not (human.kind != NO_HUMAN.kind and human(parents, segments, np.array(starts), np.array(durations)).any())
