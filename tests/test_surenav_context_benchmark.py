@@ -50,7 +50,8 @@ def test_train_and_val_tiles_are_disjoint_from_the_test_tiles_and_from_each_othe
         split_tiles(tiles, maps, val_tiles=len(tiles), max_train_tiles=0, seed=0)
 
 
-def _demo(relaxed_cells, jaywalked=False, delta=(np.zeros(0, np.int64), np.zeros(0, np.uint8))) -> Demonstration:
+def _demo(relaxed_cells, jaywalked=False, delta=None) -> Demonstration:
+    delta = (np.zeros(0, np.int64), np.zeros(0, np.uint8)) if delta is None else delta
     return Demonstration("semi_static", np.zeros((2, 2), np.float32), np.zeros(2), np.ones(2), 0, jaywalked,
                          np.asarray(relaxed_cells, np.int64), np.zeros(0, np.int64), delta[0], delta[1], 0)
 
@@ -118,7 +119,7 @@ def test_context_input_widths_and_estimator(town):
 
 
 def test_the_first_graph_fixes_the_known_hard_space(town):
-    smap, graph = town
+    _, graph = town
     model = ContextEstimator(PARAMS.surenav.model, True, len(CONTEXT_FEATURES)).eval()
     cost = EstimatorCost(model, "context")
     cost(graph, np.arange(graph.num_nodes))  # first graph: the known hard space
