@@ -59,12 +59,13 @@ from navlab.surenav.benchmark import (
 from navlab.surenav.context.dataset import load_context_demos, load_index, stored_environments
 from navlab.surenav.context.measure import per_label_fields
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
-from navlab.surenav.context.training import FOLDERS, context_cost, feature_runs
+from navlab.surenav.context.training import FOLDERS, context_cost, context_model_path, feature_runs
 from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.demo_priors import class_order, dstar_label_costs, label_traversal
 from navlab.surenav.episodes import Environment, window
 from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.tables import Table
+from navlab.surenav.train import read_log
 
 SURENAV = "SuReNav"
 ABLATION = "SuReNav, {} input (ablation)"
@@ -214,7 +215,20 @@ def _mix_note(mix: dict) -> str:
         "; ".join(parts) + "."
 
 
-def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: dict) -> Table:
+def training_note(artifacts_dir: str | Path, params: Params) -> str:
+    """Per training run: epochs run, the best epoch and its validation plan IoU, and the train IoU there."""
+    parts = []
+    for features, seeds in feature_runs(params.surenav.demos.context.node_features, params.surenav.train).items():
+        for seed in seeds:
+            rows = read_log(context_model_path(artifacts_dir, features, seed).parent / "log.tsv")
+            best = max(rows, key=lambda r: r["val_iou"])
+            parts.append(f"{features} seed {seed}: {len(rows)} epochs, best {best['epoch']} (val IoU "
+                         f"{best['val_iou']:.3f}, train IoU {best['train_iou']:.3f})")
+    return "Training (graph-level plan IoU on the validation / a fifth of the training demonstrations): " + \
+        "; ".join(parts) + "."
+
+
+def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: dict, trained: str = "") -> Table:
     """The report table: rows (``benchmark.table1_rows``), notes with the mix and paired deltas, claims."""
     s = params.surenav
     settings = s.benchmark
@@ -228,7 +242,7 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
             p = paired(outcomes, a, b, "relaxation_iou", settings.seed, settings.bootstrap_samples)
             deltas.append(f"{a} - {b}: ΔIoU {p['delta']:+.3f} {p['ci']}")
     train_tiles, val_tiles = len(index["maps"]["train"]), len(index["maps"]["val"])
-    notes = " ".join([
+    notes = " ".join(part for part in [
         (f"{len({o.environment for o in outcomes})} semi-static environments on {len({o.group for o in outcomes})} "
          "held-out real test tiles, demonstrated by the context demonstrator (navlab.surenav.context: relaxations "
          "decided per region from context, three hidden personas); the per-label benchmark is table1_human_likeness."),
@@ -240,6 +254,7 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
          f"node input '{s.demos.context.node_features}' (context: Eq. 7 + RWSE + log area, log patch area, by a "
          "sidewalk, crossing point, on the walkway, beside a new obstacle); each environment's value is the mean over "
          f"seeds; *_seed_sd is the spread of the per-seed means. {ablation}: the other node input."),
+        trained,
         (f"{LABEL_PSI}: Psi = (cost per metre - 1) x sqrt(area) with the per-label demonstrator's personas' mean costs "
          f"(fixed regional costs). {ORACLE_PSI}: 0 on soft regions holding a demonstrated cell, "
          f"{ORACLE_OTHER_M:g} m on other soft ones. {RULE_PSI}: the demonstrator's rules at the personas' mean "
@@ -250,7 +265,7 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
         "Paired 95% intervals (percentile bootstrap over environments): " + "; ".join(deltas) + ".",
         f"95% intervals: percentile bootstrap over environments ({settings.bootstrap_samples} resamples).",
         "Claims: " + " | ".join(c.line() for c in found),
-    ])
+    ] if part)
     return Table("table1_context", "SuReNav Table I, on the context demonstrator (issue 25)", TABLE1_COLUMNS, rows,
                  [dict(r) for r in paper.TABLE1], notes, found)
 
@@ -261,5 +276,5 @@ def context_table1(params: Params, artifacts_dir: str | Path, progress: bool = T
     runs, methods_ = methods(params, artifacts_dir)
     outcomes = run_all(envs, stored, runs, params, progress)
     index = load_index(artifacts_dir)
-    return table(outcomes, methods_, params, index), index["mix"]
+    return table(outcomes, methods_, params, index, training_note(artifacts_dir, params)), index["mix"]
 
