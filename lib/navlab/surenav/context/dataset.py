@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
-from navlab.core.io import DataError, load_npz, read_index, require, sha256_json, write_json
+from navlab.core.io import DataError, load_npz, read_index, sha256_json, write_json
 from navlab.core.labels import label_id
 from navlab.core.params import Params
 from navlab.core.seeding import rng
@@ -95,7 +95,10 @@ def build_context_demos(params: Params, data_dir: Path, artifacts_dir: Path) -> 
 
 
 def load_index(artifacts_dir: str | Path) -> dict:
-    return read_index(require(artifacts_dir, *FOLDER, "index.json"))
+    path = Path(artifacts_dir, *FOLDER, "index.json")
+    if not path.is_file():
+        raise DataError(f"{path} is missing; {_FIX}")
+    return read_index(path)
 
 
 def load_context_demos(artifacts_dir: str | Path, split: str) -> list[tuple[SemanticMap, MapDemos]]:
