@@ -26,6 +26,7 @@ def artifact_steps():
     from navlab.reach.brt_margin import build_brt_margins
     from navlab.reach.precompute import build_hj_grids
     from navlab.surenav.artifacts import artifact_steps as surenav_steps
+    from navlab.surenav.context.artifacts import artifact_steps as context_steps
     from navlab.surenav.episodes import build_episodes
 
     return [
@@ -34,4 +35,5 @@ def artifact_steps():
         ("surenav_episodes", build_episodes),
         *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
         *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)
+        *context_steps(),  # surenav_context_demos, surenav_context_estimator (issue 25's context benchmark)
     ]

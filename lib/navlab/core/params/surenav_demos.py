@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 from navlab.core.params.fields import between
 
@@ -13,6 +14,10 @@ class ContextDemosParams:
     test_pairs_per_map: int = between(1)  # semi-static environments per test map (Table I: 5 maps x 20)
     min_context_share: float = between(0.0, 1.0)  # Expert IoU minus the best per-label field's, at least
     min_region_gain: float = between(0.0, 1.0)  # rule-Psi SuReNav IoU minus the best per-label field's, at least
+    train_pairs_per_map: int = between(1)  # demonstrations per real training / validation tile (surenav_context_demos)
+    val_tiles: int = between(1)  # real non-test tiles held out for validation; the others train
+    max_train_tiles: int = between(0)  # training tiles used (0: every eligible one); smoke keeps it small
+    node_features: Literal["labels", "context"]  # the context estimator's input: Eq. 7 alone, or + the rules' context
 
 
 @dataclass(frozen=True)

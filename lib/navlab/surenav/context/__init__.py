@@ -10,4 +10,11 @@ executor, paired 95% bootstrap; ``benchmarks/surenav_context.json``): Expert 0.0
 IoU; best per-label field (the per-label demonstrator's personas' mean costs) 0.163 / 0.403; SuReNav's
 executor with the rule Psi 0.091 / 0.640. Context share +0.300 [0.218, 0.379] (at least 0.20: holds);
 region-expressible +0.237 [0.157, 0.311] (at least 0.10: holds).
+
+The benchmark built on it (issue 25, steps 2-4; stages ``surenav_context_demos``,
+``surenav_context_estimator``, notebook ``surenav/05_context_benchmark``): ``tiles`` cuts real training
+and validation tiles disjoint from the test tiles, ``dataset`` stores the demonstrations of every split
+and their relaxation mix, ``features`` gives the estimator the rules' context per node, ``training``
+trains it with ``surenav_estimator``'s recipe, ``benchmark`` runs every Table I row on the context
+environments and decides the claims (``reports/surenav/table1_context``).
 """

@@ -1,0 +1,145 @@
+"""The context benchmark's pieces (issue 25, steps 2-4): real train/val tiles, the relaxation mix, the
+context features and estimator, training samples, and the non-learned Psi of its reference rows."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+
+from navlab.core.grid import RasterFrame
+from navlab.core.labels import NUM_LABELS, SOFT_IDS, label_id
+from navlab.core.params import load_params
+from navlab.graphs.region_graph import superpixel_graph
+from navlab.maps.network import WalkableNetwork
+from navlab.maps.semantic_map import SemanticMap
+from navlab.maps.tiles import Tile
+from navlab.surenav.context.benchmark import dstar_readings, label_table_cost, oracle_cost
+from navlab.surenav.context.dataset import relaxation_mix
+from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
+from navlab.surenav.context.tiles import split_tiles
+from navlab.surenav.context.training import demo_sample, feature_runs
+from navlab.surenav.demo_priors import LabelTraversal
+from navlab.surenav.experts.environments import Demonstration
+from navlab.surenav.experts.store import MapDemos
+from synthetic_city import city
+
+SIDEWALK, ROAD, GRASS, BUILDING = (label_id(n) for n in ("sidewalk", "road", "grass", "building"))
+PARAMS = load_params("smoke")
+
+
+def _tile(city_name: str, k: int, sidewalk: float) -> Tile:
+    lab = np.full((10, 10), BUILDING, dtype=np.uint8)
+    lab.ravel()[:round(sidewalk * 100)] = SIDEWALK
+    empty = WalkableNetwork(np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64))
+    return Tile(city_name, 0, k, SemanticMap(f"{city_name}_r0c{k}", lab, RasterFrame((10, 10), 1.0)), empty)
+
+
+def test_train_and_val_tiles_are_disjoint_from_the_test_tiles_and_from_each_other():
+    tiles = [_tile(c, k, 0.05 + 0.02 * k) for c in ("helsinki", "monaco", "kouvola") for k in range(5)]
+    tiles.append(_tile("monaco", 9, 0.0))  # too little sidewalk: in no split
+    maps = PARAMS.data.maps
+    split = split_tiles(tiles, maps, val_tiles=2, max_train_tiles=0, seed=0)
+    names = {k: {t.map.name for t in v} for k, v in split.items()}
+    assert len(names["test"]) == 3 + maps.extra_test_tiles and len(names["val"]) == 2
+    assert not (names["train"] & names["test"] or names["val"] & names["test"] or names["train"] & names["val"])
+    assert len(names["train"]) == 15 - len(names["test"]) - 2 and "monaco_r0c9" not in set().union(*names.values())
+    again = split_tiles(tiles, maps, val_tiles=2, max_train_tiles=3, seed=0)
+    assert [t.map.name for t in again["val"]] == [t.map.name for t in split["val"]] and len(again["train"]) == 3
+    with pytest.raises(ValueError, match="val_tiles"):
+        split_tiles(tiles, maps, val_tiles=len(tiles), max_train_tiles=0, seed=0)
+
+
+def _demo(relaxed_cells, jaywalked=False, delta=None) -> Demonstration:
+    delta = (np.zeros(0, np.int64), np.zeros(0, np.uint8)) if delta is None else delta
+    return Demonstration("semi_static", np.zeros((2, 2), np.float32), np.zeros(2), np.ones(2), 0, jaywalked,
+                         np.asarray(relaxed_cells, np.int64), np.zeros(0, np.int64), delta[0], delta[1], 0)
+
+
+def test_relaxation_mix_counts_demonstrations_per_label_group():
+    lab = np.full((4, 4), SIDEWALK, dtype=np.uint8)
+    lab[0] = ROAD
+    lab[3] = GRASS
+    smap = SemanticMap("m", lab, RasterFrame((4, 4), 1.0))
+    # the third demonstration's only relaxed cell became grass by its change (labels_on)
+    demos = [_demo([0, 1, 12], jaywalked=True), _demo([2]), _demo([5], delta=(np.array([5]), np.array([GRASS], np.uint8)))]
+    mix = relaxation_mix([(smap, MapDemos("m", "train", np.zeros((4, 4), np.int32), [], demos))])
+    assert mix["demonstrations"] == 3 and mix["road"] == pytest.approx(2 / 3, abs=1e-4) and mix["grass"] == pytest.approx(2 / 3, abs=1e-4)
+    assert mix["parking"] == 0 and mix["jaywalked"] == pytest.approx(1 / 3, abs=1e-4)
+
+
+def test_dstar_readings_share_the_scaled_value():
+    traversal = LabelTraversal(np.arange(NUM_LABELS) % 3 + 1, np.full(NUM_LABELS, 4))
+    r = dstar_readings(traversal)
+    finite = np.isfinite(r["D* Lite"])
+    scaled = (r["D* Lite"][finite] - 0.1) / 0.9
+    assert r["D* Lite (floor 0.01)"][finite] == pytest.approx(0.01 + 0.99 * scaled)
+    assert r["D* Lite (1 + scaled)"][finite] == pytest.approx(1.0 + scaled)
+
+
+@pytest.fixture(scope="module")
+def town():
+    smap = city(120)
+    graph = superpixel_graph(smap.labels, smap.frame, PARAMS.surenav.graph)
+    return smap, graph
+
+
+def test_label_table_and_oracle_psi(town):
+    smap, graph = town
+    nodes = np.arange(graph.num_nodes)
+    soft = np.isin(graph.node_label, SOFT_IDS)
+    table = np.full(NUM_LABELS, 1.5)
+    psi = label_table_cost(table)(graph, nodes)
+    assert psi[~soft] == pytest.approx(0.0) and psi[soft] == pytest.approx(0.5 * np.sqrt(graph.area[soft]))
+    relaxed = np.zeros(smap.labels.shape, dtype=bool)
+    target = int(np.flatnonzero(soft)[0])
+    relaxed[graph.node_raster == target] = True
+    psi = oracle_cost(relaxed, 1000.0)(graph, nodes)
+    assert psi[target] == 0.0 and np.all(psi[soft & (nodes != target)] == 1000.0) and np.all(psi[~soft] == 0.0)
+
+
+def test_context_input_widths_and_estimator(town):
+    smap, graph = town
+    walk = np.argwhere(smap.labels == SIDEWALK)
+    g = graph.with_endpoints(*smap.frame.cell_to_world(walk[[0, -1]]))
+    nodes = np.arange(g.num_nodes)
+    model_params = PARAMS.surenav.model
+    old = context_input(g, nodes, model_params.walk_steps, "labels")
+    new = context_input(g, nodes, model_params.walk_steps, "context")
+    assert new.x.shape[1] == old.x.shape[1] + len(CONTEXT_FEATURES) and torch.equal(new.x[:, :old.x.shape[1]], old.x)
+    torch.manual_seed(0)
+    model = ContextEstimator(model_params, True, len(CONTEXT_FEATURES)).eval()
+    with torch.no_grad():
+        psi = model(new)
+    assert psi.shape == (g.num_nodes,) and torch.all(psi[~new.soft] == 0) and torch.all(psi[new.soft] > 0)
+    with pytest.raises(ValueError, match="node features"):
+        model(old)
+    cost = EstimatorCost(model, "context")
+    assert cost(g, nodes) == pytest.approx(psi.double().numpy())
+
+
+def test_the_first_graph_fixes_the_known_hard_space(town):
+    _, graph = town
+    model = ContextEstimator(PARAMS.surenav.model, True, len(CONTEXT_FEATURES)).eval()
+    cost = EstimatorCost(model, "context")
+    cost(graph, np.arange(graph.num_nodes))  # first graph: the known hard space
+    assert cost.known_hard is not None and cost.known_hard.sum() == (graph.superpixels == -1).sum()
+
+
+def test_demo_sample_targets_the_soft_nodes_the_demonstration_entered(town):
+    smap, _ = town
+    rows, cols = np.nonzero(smap.labels == ROAD)
+    cells = np.ravel_multi_index((rows[:5], cols[:5]), smap.labels.shape)
+    demo = Demonstration("semi_static", np.zeros((2, 2), np.float32), smap.frame.cell_to_world(np.array([2, 10])),
+                         smap.frame.cell_to_world(np.array([100, 10])), 0, False, np.sort(cells), np.zeros(0, np.int64),
+                         np.zeros(0, np.int64), np.zeros(0, np.uint8), 0)
+    s = PARAMS.surenav
+    for features, width in (("labels", 0), ("context", len(CONTEXT_FEATURES))):
+        sample = demo_sample(smap, demo, s.graph, s.model, features, "t")
+        assert sample.data.x.shape[1] == NUM_LABELS + 2 + s.model.walk_steps + width
+        assert sample.target.any() and np.all(sample.data.soft.numpy()[sample.target])
+
+
+def test_feature_runs_train_the_main_input_on_every_seed_and_the_other_on_the_ablation_seeds():
+    runs = feature_runs("context", load_params("default").surenav.train)
+    assert runs == {"context": (0, 1, 2), "labels": (0,)}
