@@ -332,3 +332,15 @@ def test_heuristic_excess_is_zero_for_dist_and_measured_for_ttr(grids, smoke_par
     assert dist["starts"] == 3 and dist["over"] == 0 and dist["max_excess_s"] <= 0.0
     ttr = planner.heuristic_excess("TTR", tasks)
     assert ttr["starts"] == 3 and math.isfinite(ttr["max_excess_s"])
+
+
+def test_anytime_budget_states_expansions_and_this_machines_milliseconds():
+    from navlab.metrics.hj_paper import anytime_budget
+    from navlab.reach.planning import TaskResult
+
+    def run(expansions, seconds):
+        return TaskResult("Dist", "OBS", "ANA*", (0.0,) * 4, (1.0, 1.0), "optimal", True, 0.1, 10, expansions,
+                          1.0, 1.0, seconds, 1.0)
+    line = anytime_budget({"a": [run(30_000, 0.2)], "b": [run(70_000, 0.3)]}, 200_000)
+    assert "at most 200,000 expansions" in line and "200,000 expansions per wall second" in line
+    assert "about 1,000 ms" in line

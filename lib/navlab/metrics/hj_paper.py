@@ -119,6 +119,18 @@ def ana_rows(rows: list[dict]) -> list[dict]:
     return [{c: r.get(c) for c in ANA_COLUMNS} for r in rows]
 
 
+def anytime_budget(results: dict[str, list], max_expansions: int) -> str:
+    """One sentence: ANA*'s budget in expansions (what the tables run on, the same on every machine) and in
+    milliseconds on this machine, from the expansions per wall second its searches in ``results`` ran at
+    (issue 26 item 5; the paper states only a time budget)."""
+    runs = [r for rs in results.values() for r in rs]
+    seconds = sum(r.seconds for r in runs)
+    rate = sum(r.total_expansions for r in runs) / seconds if seconds > 0 else math.nan
+    return (f"ANA* budget: at most {max_expansions:,} expansions per search, no time limit (machine-independent); "
+            f"its searches here ran {rate:,.0f} expansions per wall second, so the cap is about "
+            f"{1000 * max_expansions / rate:,.0f} ms on this machine.")
+
+
 def failure_modes(rows: list[dict]) -> str:
     """One sentence per table: how each method's failures split (no plan / plan failing the dense check)."""
     parts = []

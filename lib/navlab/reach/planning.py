@@ -144,8 +144,7 @@ class Planner:
         res = search(self.spec, self.room.bounds, start, goal, self.heuristic(heuristic, goal_xy, tol),
                      static=self.pruner(pruner), collision=self.collision(pruner), costmap=self.costmap,
                      anytime=anytime, table=self.table,
-                     max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions,
-                     time_limit_s=self.p.anastar_time_limit_s if anytime else math.inf)
+                     max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions)
         clearance = plan_clearance(self.room, self.robot.radius_m, self.spec, res)
         if res.found and clearance <= 0.0 and pruner != "none":
             raise AssertionError(f"{algorithm} with {heuristic} + {pruner} from {tuple(np.round(start, 3))} returned a "

@@ -160,7 +160,6 @@ class PlannerParams:
     cost_decay_per_m: float = between(0.0, 100.0)
     astar_max_expansions: int = between(1)
     anastar_max_expansions: int = between(1)
-    anastar_time_limit_s: float = between(0.001, 600.0)
     brt_margin_refine: tuple[int, ...] = between(1, 8, length=4)
     fi_brt: FIBRTParams
     table1: TaskSetParams
