@@ -324,8 +324,8 @@ def write_index(reports_dir: str | Path, readme: str | Path | None = None) -> Pa
     (between ``BEGIN`` and ``END``: the front door's numbers, which no one types by hand)."""
     reports_dir = Path(reports_dir)
     if not reports_dir.is_dir():
-        raise DataError(f"{reports_dir}/ does not exist; pass the reports folder (default: reports), e.g. "
-                        "`python -m navlab reports index --reports-dir reports`")
+        raise DataError(f"{reports_dir}/ does not exist: no reports to index (--reports-dir names the folder "
+                        "the notebooks wrote)")
     copy_figures(reports_dir)
     tracks, figures = read_tracks(reports_dir), shown_figures(reports_dir)
     out = reports_dir / INDEX
