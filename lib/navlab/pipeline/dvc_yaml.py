@@ -23,6 +23,7 @@ from typing import Any
 import yaml
 
 from navlab.core.params import load_params
+from navlab.pipeline.results import FIGURES
 from navlab.pipeline.stages import stage_sources
 
 RESOLVED = "params.resolved.yaml"
@@ -72,6 +73,8 @@ _CONTEXT_DRAW = tuple(f"surenav.demos.context.{k}"
                       for k in ("seed", "test_pairs_per_map", "train_pairs_per_map", "val_tiles", "max_train_tiles"))
 _FIG = "reports/{}/figures/"
 _MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
+# The index's outputs, committed to git (cache: false): the results page and its figure copies, so GitHub shows them.
+INDEX_OUTS = ("reports/README.md", "reports/figures")
 
 STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
@@ -159,9 +162,11 @@ PLOTS = (
 
 
 def all_stages() -> tuple[Stage, ...]:
-    """The registry plus the last stage, which indexes every report the others write."""
+    """The registry plus the last stage, which indexes every report the others write and copies the
+    figures the results page shows (``navlab.pipeline.results.FIGURES``)."""
     metrics = tuple(m for s in STAGES for m in s.metrics)
-    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), metrics, outs=(),
+    figures = tuple(f"reports/{source}" for chosen in FIGURES.values() for source, _ in chosen)
+    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), (*metrics, *figures), outs=(),
                            metrics=()))
 
 
@@ -174,7 +179,7 @@ def stage_entry(stage: Stage, root: Path) -> dict[str, Any]:
         entry["params"] = [{RESOLVED: ["profile", *stage.params]}]
     outs = [{o: {"persist": True}} if o in stage.persist else o for o in stage.outs]
     if stage.name == "reports_index":
-        outs.append({"reports/README.md": {"cache": False}})
+        outs += [{o: {"cache": False}} for o in INDEX_OUTS]
     if outs:
         entry["outs"] = outs
     if stage.metrics:
@@ -242,7 +247,7 @@ def stale_stages(root: str | Path) -> list[str]:
         last = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit {run.returncode}"
         raise DvcStatusError(f"`dvc status` failed, so dvc.lock could not be checked: {last}")
     built = {o for s in all_stages() for o in (*s.outs,)}
-    committed = {m for s in all_stages() for m in s.metrics} | {"reports/README.md"}
+    committed = {m for s in all_stages() for m in s.metrics} | set(INDEX_OUTS)
     lines = []
     for name, changes in sorted(json.loads(run.stdout or "{}").items()):
         why = Why()
