@@ -148,6 +148,13 @@ STAGES: tuple[Stage, ...] = (
               ("reports/hj/table8_rooms.json", "reports/hj/table9_humans.json")),
     _notebook("hj_compute", "notebooks/hj/05_compute.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               metrics=("reports/hj/table7_compute.json",)),
+    dataclasses.replace(  # issue 26's curves; each point cached (resumable) under artifacts/hj_sensitivity
+        _notebook("hj_sensitivity", "notebooks/hj/06_sensitivity.ipynb", (*_HJ_LOOP, "hj.seed", "hj.sensitivity"),
+                  ("artifacts/hj", _MARGINS),
+                  ("artifacts/hj_sensitivity", *(_FIG.format("hj") + f"sensitivity_{k}.png"
+                                                 for k in ("budget", "replan_hz", "human_noise_m", "human_prediction_s"))),
+                  ("reports/hj/sensitivity_budget.json", "reports/hj/sensitivity_loop.json")),
+        persist=("artifacts/hj_sensitivity",)),
 )
 
 # Training curves for `dvc plots show`: (file, x, y columns, title)
