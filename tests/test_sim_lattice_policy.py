@@ -73,7 +73,7 @@ def test_without_a_plan_a_car_swerves_where_braking_straight_would_hit_the_wall(
         state = np.array([room.width - ROBOT_R - gap, 2.7, 1.0, 0.0])
         answer = policy._stop(state)
         straight = _stops_clear_by_replay(spec, room, state, (min(spec.accelerations), 0.0))
-        rows, controls = first_step(spec, 1.0)
+        _, controls = first_step(spec, 1.0)
         if answer is None:
             kinds.add("none")
             assert not any(_stops_clear_by_replay(spec, room, state, c) for c in controls)
@@ -87,7 +87,7 @@ def test_without_a_plan_a_car_swerves_where_braking_straight_would_hit_the_wall(
 
 
 def test_a_car_that_cannot_stop_clear_keeps_its_plan_rather_than_brake_into_the_wall():
-    spec, room, policy = _open_policy(max_expansions=1)  # every re-plan stops at the expansion limit
+    _, room, policy = _open_policy(max_expansions=1)  # every re-plan stops at the expansion limit
     state = np.array([room.width - ROBOT_R - 0.5, 2.7, 1.0, 0.0])
     goal = (1.0, 2.7)
     assert policy._stop(state) is None
