@@ -61,7 +61,8 @@ def _artifact(name: str, params: tuple[str, ...], inputs: tuple[str, ...], outs:
 
 _PACER_TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch", "pacer.train.val_examples",
                 "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction", "pacer.train.patience",
-                "pacer.train.device", "pacer.train.threads")  # float results follow the device and thread count
+                "pacer.train.device", "pacer.train.threads", "pacer.train.select_on", "pacer.train.select_windows",
+                "pacer.evaluation.cost_scale")  # float results follow the device and thread count
 _SURENAV_RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.train", "surenav.planner")
 _HJ_SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
