@@ -16,7 +16,6 @@ from navlab.pacer.context import chain_pairs
 from navlab.pacer.map_windows import METRICS, MapWindow, map_windows, window_counts, window_scores
 from navlab.pacer.preferences import IGNORE, implied_pairs
 from navlab.pacer.train import improves, run_key, train_phase
-
 from test_pacer_model import TinyTerrainSet
 
 

@@ -38,6 +38,7 @@ from navlab.pacer.evaluate import (
     plan_on_costmap,
     window_oracle_costmap,
 )
+from navlab.pacer.map_windows import METRICS, MapWindow, window_scores
 from navlab.pacer.preferences import (
     environment_tiers,
     mean_consistent_ranks,
@@ -45,7 +46,6 @@ from navlab.pacer.preferences import (
     rank_costs,
     target_costmap,
 )
-from navlab.pacer.map_windows import METRICS, MapWindow, window_scores
 from navlab.pacer.terrain import TerrainBank
 
 Preference = Literal["realistic", "inverted"]

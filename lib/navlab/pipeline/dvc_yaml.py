@@ -157,7 +157,8 @@ PLOTS = (
      "SuReNav estimator (GPS, seed 0) Eq. 13 loss and validation / train relaxation IoU per epoch"),
     ("artifacts/surenav/mpnn/seed0/log.tsv", "epoch", ["train_loss", "val_loss", "val_iou", "train_iou"],
      "SuReNav MPNN-only ablation (seed 0) per epoch"),
-    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss"], f"PACER phase {k} ({what}) loss per epoch")
+    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss", "select_score"],
+       f"PACER phase {k} ({what}) loss and map-window selection score (pixel-pair AUC) per epoch")
       for k, what in ((1, "D_real"), (2, "D_real + D_shuffled"), (3, "+ D_synthetic"))),
 )
 
