@@ -61,7 +61,8 @@ def _artifact(name: str, params: tuple[str, ...], inputs: tuple[str, ...], outs:
 
 _PACER_TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch", "pacer.train.val_examples",
                 "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction", "pacer.train.patience",
-                "pacer.train.device", "pacer.train.threads")  # float results follow the device and thread count
+                "pacer.train.device", "pacer.train.threads", "pacer.train.select_on", "pacer.train.select_windows",
+                "pacer.evaluation.cost_scale")  # float results follow the device and thread count
 _SURENAV_RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.train", "surenav.planner")
 _HJ_SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
@@ -163,7 +164,8 @@ PLOTS = (
      "SuReNav estimator (GPS, seed 0) Eq. 13 loss and validation / train relaxation IoU per epoch"),
     ("artifacts/surenav/mpnn/seed0/log.tsv", "epoch", ["train_loss", "val_loss", "val_iou", "train_iou"],
      "SuReNav MPNN-only ablation (seed 0) per epoch"),
-    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss"], f"PACER phase {k} ({what}) loss per epoch")
+    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss", "select_score"],
+       f"PACER phase {k} ({what}) loss and map-window selection score (pixel-pair AUC) per epoch")
       for k, what in ((1, "D_real"), (2, "D_real + D_shuffled"), (3, "+ D_synthetic"))),
 )
 
