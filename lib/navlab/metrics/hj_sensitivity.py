@@ -1,5 +1,5 @@
 """The HJ closed-loop claims as curves over a setting the paper does not state (issue 26; the sweep is
-``sim.hj_sweeps``): report rows per point, and each claim's verdict as the range of settings where it holds.
+``metrics.hj_sweeps``): report rows per point, and each claim's verdict as the range of settings where it holds.
 
 A claim is checked at every point of its curve with the table's own rule (``metrics.hj_closed_loop``'s
 counts); its verdict is "holds" where it holds at every point, "does not hold" where at none, and
