@@ -42,8 +42,8 @@ from navlab.maps.dataset import load_maps
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.pacer.aerial import AerialMap, aerial_map
 from navlab.pacer.baselines.sterling import SterlingEncoder, load_sterling
-from navlab.pacer.context import context_patch, preference_context
 from navlab.pacer.bev import fov_mask
+from navlab.pacer.context import context_patch, preference_context
 from navlab.pacer.evaluate import plan_on_costmap, stitch_windows
 from navlab.pacer.experiments import map_context, sterling_method, window_oracle_method
 from navlab.pacer.preferences import environment_tiers
@@ -243,7 +243,7 @@ class PacerPlayground:
 
     def use_operator(self) -> None:
         """The pairs notebook 02 gives PACER on this map (realistic preference, every terrain named)."""
-        group, index = self._chosen()
+        index = self._chosen()[1]
         _, _, pairs = map_context(self.bank, self.data, self.amap, "realistic", True, self.params.pacer.seed, index)
         self.pairs, self.pending = tuple(dict.fromkeys((int(a), int(b)) for a, b in pairs)), None
 
