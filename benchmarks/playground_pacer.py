@@ -45,7 +45,8 @@ def session(view: PacerView, choice: str, next_choice: str) -> list[tuple[str, f
     def card(k):
         return view.gallery.children[k].children[1]
 
-    timed("choose map", lambda: setattr(view.maps, "value", choice))
+    if view.maps.value != choice:  # else the previous session's "next map" chose it already
+        timed("choose map", lambda: setattr(view.maps, "value", choice))
     timed("uninformative", buttons["uninformative"].click)
     timed("thumbnail (preferred)", card(0).click)
     timed("thumbnail (other): add pair", card(2).click)

@@ -205,7 +205,7 @@ def run_all(browser, url: str, token: str, notebook: str, screenshot: Path,
         for cell in state["cells"]:
             run.errors += [(o["ename"], o["evalue"]) for o in cell["outputs"] if o["type"] == "error"]
             run.images += sum(o["image"] for o in cell["outputs"])
-        images = page.locator(".jp-OutputArea-output img")
+        images = page.locator(".jp-OutputArea-output img:not(.widget-image)")  # figures; not a widget's images
         for i in range(images.count()):  # scrolled into view, as a reader sees each figure
             images.nth(i).scroll_into_view_if_needed()
             run.images_rendered += images.nth(i).evaluate("img => img.decode().then(() => img.naturalWidth > 0, "
