@@ -31,7 +31,7 @@ from navlab.viz.playground.pacer import PacerPlayground, PacerView
 
 
 def session(view: PacerView, choice: str, next_choice: str) -> list[tuple[str, float, bool]]:
-    """One person's session on map ``choice``: (interaction, ms, new (map, context)?) per click."""
+    """One person's session on map ``choice``: (interaction, wall ms, CPU ms, new (map, context)?) per click."""
     p = view.playground
     buttons = {b.description: b for b in view.widget.children[3].children}
     rows = []
@@ -40,7 +40,7 @@ def session(view: PacerView, choice: str, next_choice: str) -> list[tuple[str, f
         misses = p.outcomes.misses
         click()
         assert view.message.kind == "info", f"{name}: {view.message.text}"
-        rows.append((name, view.last_ms, p.outcomes.misses > misses))
+        rows.append((name, view.last_ms, view.last_cpu_ms, p.outcomes.misses > misses))
 
     def card(k):
         return view.gallery.children[k].children[1]
@@ -63,9 +63,9 @@ def session(view: PacerView, choice: str, next_choice: str) -> list[tuple[str, f
 
 def summary(label: str, times: list[float]) -> str:
     if not times:
-        return f"{label:18s} none"
+        return f"{label:25s} none"
     p90 = statistics.quantiles(times, n=10)[-1] if len(times) > 1 else times[0]
-    return (f"{label:18s} median {statistics.median(times):5.0f} ms   p90 {p90:5.0f} ms   "
+    return (f"{label:25s} median {statistics.median(times):5.0f} ms   p90 {p90:5.0f} ms   "
             f"max {max(times):5.0f} ms   ({len(times)})")
 
 
@@ -87,12 +87,12 @@ def main() -> None:
     print(f"{args.profile} profile, {count} maps per group, load average 1-min at start {load:.1f} "
           f"on {os.cpu_count()} cores")
     for name in dict.fromkeys(r[0] for r in rows):
-        times = [ms for n, ms, _ in rows if n == name]
-        print(f"  {name:30s} median {statistics.median(times):5.0f} ms  max {max(times):5.0f} ms")
-    print(summary("all interactions", [ms for _, ms, _ in rows]))
-    print(summary("new (map, context)", [ms for _, ms, new in rows if new]))
-    print(summary("cached / no compute", [ms for _, ms, new in rows if not new]))
-
+        wall, cpu = ([r[k] for r in rows if r[0] == name] for k in (1, 2))
+        print(f"  {name:30s} median {statistics.median(wall):5.0f} ms wall, {statistics.median(cpu):5.0f} ms CPU")
+    for label, keep in (("all interactions", lambda new: True), ("new (map, context)", lambda new: new),
+                        ("cached / no compute", lambda new: not new)):
+        print(summary(f"{label}, wall", [r[1] for r in rows if keep(r[3])]))
+        print(summary(f"{label}, CPU", [r[2] for r in rows if keep(r[3])]))
 
 if __name__ == "__main__":
     main()
