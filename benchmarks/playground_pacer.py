@@ -9,13 +9,21 @@ oracle), the three A* paths and tier shares when the (map, context) is new, and 
 encoded as JPEG, thumbnails, tier table); it leaves out only the transfer to the browser. "new" rows
 compute a (map, context) for the first time; "cached" ones revisit one.
 
-Measured on this 2-core machine, `default` profile (256-px maps, phase-3 model, 1 torch thread),
-`--maps 4` (96 interactions):
+CPU time is measured beside wall time: on these two cores shared with other jobs, it is what the wall
+time would be on an idle machine. Measured here, `default` profile (256-px maps, phase-3 model in
+channels-last, 1 torch thread), `--maps 4` (90 interactions), 1-min load average 3.1 at the start:
 
-    load average 1-min at start 2.0 (three other jobs sharing the two cores)
-    all interactions   median  483 ms   p90  964 ms   max 1,262 ms   (96)
-    new (map, context) median  843 ms   p90 1,037 ms                  (44)
-    cached / no compute median    7 ms                                (52)
+    all interactions           median  559 ms wall (478 ms CPU)   p90  906 ms wall   max 1,580 ms
+    new (map, context)         median  682 ms wall (534 ms CPU)   p90  997 ms wall   (64)
+    cached / no compute        median    4 ms wall                 max     13 ms     (26)
+
+    per interaction (median wall / CPU ms): choose map 687 / 480, uninformative 545 / 454, first
+    thumbnail 4 / 3, second thumbnail (adds the pair) 687 / 521, invert 671 / 512, invert back 4 / 4,
+    reorder 531 / 494, remove 670 / 545, operator's pairs 795 / 580, next map 835 / 558.
+
+Without channels-last convolutions a new (map, context) took 665 ms CPU median (1,127 ms wall at load
+6.4); skipping the network on windows wholly in the padding (``pacer_costmap``) had cut PACER's costmap
+from ~1.3 to ~0.8 s wall at load 4 before that.
 
 Usage: python benchmarks/playground_pacer.py [--profile default] [--maps 4] [--data-dir data]
        [--artifacts-dir artifacts]
