@@ -103,8 +103,8 @@ def ordering_from_pairs(terrains: Sequence[int], pairs: Iterable[Pair], rank: np
 def pacer_costmap(model: torch.nn.Module, image: np.ndarray, context: np.ndarray, fov_mask: np.ndarray) -> np.ndarray:
     """The costmap ``costmap_over_map`` gives (its windows, masks and stitching), less the network runs on
     windows whose field of view lies wholly in the reflect padding around the map: they add nothing to
-    the map's own pixels, and on a 256-px map they are a third of all windows, the third that keeps a
-    redraw over a second on two cores. Windows go in channels-last (see ``PacerPlayground.load``).
+    the map's own pixels, and on a 256-px map they are a third of all windows: skipping them is part of
+    what brings a redraw under a second on two cores. Windows go in channels-last (``PacerPlayground.load``).
     ``tests/test_playground_pacer.py`` checks both agree."""
     model.eval()
     window = fov_mask.shape[0]
@@ -167,13 +167,13 @@ class PacerPlayground:
     @classmethod
     def load(cls, profile: str, data_dir: str | Path, artifacts_dir: str | Path) -> PacerPlayground:
         """The playground on ``profile``'s trained phase-3 model and STERLING encoder; a missing one stops
-        with one line naming the command that builds it. Torch runs at the profile's thread count, as
-        the PACER notebooks and ``benchmarks/playground_pacer.py`` do."""
+        with one line naming the command that builds it. It runs on the CPU (its 1 s budget is the 2-core
+        machine's) at the profile's torch thread count, as the PACER notebooks do."""
         params = load_params(profile)
         torch.set_num_threads(params.pacer.train.threads)
         artifacts = Path(artifacts_dir) / "pacer"
         # channels-last weights: oneDNN's convolutions then run in 60 % of the CPU time (costs equal to ~1e-5)
-        model = load_model(artifacts / "phase3" / "model.pt", params.pacer.train.device).to(
+        model = load_model(artifacts / "phase3" / "model.pt").to(
             memory_format=torch.channels_last)
         encoder = load_sterling(artifacts / "sterling" / "encoder.pt")
         return cls(params, data_dir, load_terrain_bank(data_dir, params.pacer.data), model, encoder)
