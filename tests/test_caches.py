@@ -89,7 +89,7 @@ def pacer_smoke():
     from navlab.core.params import load_params
 
     p = load_params("smoke").pacer
-    return p.model, dataclasses.replace(p.train, examples_per_epoch=8, batch_size=4, threads=1)
+    return p.model, dataclasses.replace(p.train, examples_per_epoch=8, batch_size=4, threads=1, select_on="val_loss")
 
 
 def _train(cfg, out, epochs, **kw):
@@ -128,7 +128,7 @@ def test_edited_training_code_retrains_instead_of_resuming(pacer_smoke, tmp_path
         from navlab.pacer.train import train_phase
         from test_pacer_model import TinyTerrainSet
         p = load_params("smoke").pacer
-        train = dataclasses.replace(p.train, examples_per_epoch=8, batch_size=4, threads=1)
+        train = dataclasses.replace(p.train, examples_per_epoch=8, batch_size=4, threads=1, select_on="val_loss")
         for out in ("run", "fresh"):
             train_phase(p.model, train, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], out, phase="phase1",
                         epochs=1, seed=0, progress=False)

@@ -66,7 +66,9 @@ def smoke():
 
 
 def tiny_train_cfg(smoke, **changes):
-    return dataclasses.replace(smoke.train, examples_per_epoch=8, batch_size=4, threads=1, **changes)
+    """The smoke training sizes shrunk; selected on the validation loss (the tiny sets have no map windows)."""
+    return dataclasses.replace(smoke.train, **{"examples_per_epoch": 8, "batch_size": 4, "threads": 1,
+                                               "select_on": "val_loss", **changes})
 
 
 def test_loss_ignores_pixels_outside_the_field_of_view():
@@ -208,7 +210,7 @@ def test_resume_after_a_kill_matches_an_uninterrupted_run(smoke, tmp_path):
     a, b = load_model(whole).state_dict(), load_model(resumed).state_dict()
     assert all(torch.equal(a[k], b[k]) for k in a)
     log = (tmp_path / "resumed" / "val_loss.tsv").read_text().splitlines()
-    assert log[0].split("\t") == ["epoch", "train_loss", "val_loss"] and len(log) == 3
+    assert log[0].split("\t") == ["epoch", "train_loss", "val_loss", "select_score"] and len(log) == 3
     assert log == (tmp_path / "whole" / "val_loss.tsv").read_text().splitlines()
 
 

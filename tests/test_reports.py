@@ -1,6 +1,7 @@
 import json
 
-from navlab.pipeline.reports import read_table, write_index, write_table
+from navlab.pipeline.reports import read_table, write_table
+from navlab.pipeline.results import write_index
 
 
 def test_table_round_trip_markdown_and_index(tmp_path):

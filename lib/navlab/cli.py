@@ -102,9 +102,12 @@ def _lab(args) -> int:
 
 
 def _reports_index(args) -> int:
-    from navlab.pipeline.reports import write_index
+    from navlab.pipeline.results import write_index
 
-    print(f"wrote {write_index(args.reports_dir)}")
+    readme = args.readme  # the front door shows the committed reports only, never a scratch folder's
+    if readme is None and Path(args.reports_dir).resolve() == Path("reports").resolve():
+        readme = "README.md"
+    print(f"wrote {write_index(args.reports_dir, readme=readme)}")
     return 0
 
 
@@ -247,8 +250,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     rep = groups.add_parser("reports", help="report files")
     rep_cmds = rep.add_subparsers(dest="cmd", required=True)
-    i = rep_cmds.add_parser("index", help="write reports/README.md from every report JSON")
+    i = rep_cmds.add_parser("index", help="write reports/README.md (and README.md's results block) from "
+                                                   "every report JSON")
     folder_args(i, "reports")
+    i.add_argument("--readme", default=None, help="the front door whose results block is rewritten (default: "
+                                                    "README.md when the reports folder is reports/)")
     i.set_defaults(func=_reports_index)
 
     d = rep_cmds.add_parser("diff", help="compare regenerated reports with the committed ones; flag every number "

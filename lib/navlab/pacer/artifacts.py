@@ -17,12 +17,23 @@ from navlab.core.params import Params
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import pacer_dataset
+from navlab.pacer.map_windows import map_windows
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import PHASE_DATASETS, PHASES, resolve_device, train_phase
 
 
 def phase_dir(artifacts_dir: str | Path, phase: str) -> Path:
     return Path(artifacts_dir) / "pacer" / phase
+
+
+def selection_windows(params: Params, data_dir: Path, bank) -> list:
+    """The fixed validation map windows checkpoints are selected on (``pacer.train.select_on``
+    map_windows; none for val_loss): ``select_windows`` windows of the SuReNav *val* maps on seen terrains,
+    realistic and inverted preferences taking turns (the two the navigation tables plan under)."""
+    if params.pacer.train.select_on != "map_windows":
+        return []
+    return map_windows(params, data_dir, "val", "seen", ("realistic", "inverted"),
+                       params.pacer.train.select_windows, bank)
 
 
 def _train(phase: str):
@@ -39,6 +50,7 @@ def _train(phase: str):
             seed=params.pacer.seed, context_pairs=params.pacer.data.n_pairs,
             init_from=phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
             inputs=files_fingerprint(require(data_dir, "raw", "terrain")),
+            select_windows=selection_windows(params, data_dir, bank), cost_scale=params.pacer.evaluation.cost_scale,
         )
     return step
 

@@ -96,12 +96,40 @@ def preference_context(bank: TerrainBank, ordering: np.ndarray, rng: np.random.G
     first), with n = ``params.n_pairs`` and h = w = ``params.patch_size``; the pairs cover ``cover``
     (default: every terrain of ``ordering``) where n allows (:func:`preference_pairs`)."""
     pairs = preference_pairs(ordering, params.n_pairs, rng, cover)
+    return pair_context(bank, pairs, rng, params), pairs
+
+
+def pair_context(bank: TerrainBank, pairs: np.ndarray, rng: np.random.Generator,
+                 params: PacerDataParams) -> np.ndarray:
+    """The context tensor float32 (3n, 2h, w) of given ``pairs`` (int64 (n, 2), (preferred, other)):
+    one ground scale, a fresh patch per terrain and pair, each under its own brightness."""
     scale = texels_per_pixel(rng, params)
     patches = np.stack([[context_patch(bank, t, rng, params.patch_size, scale) for t in pair] for pair in pairs])
     jitter = params.photometric.brightness  # patches come from other photographs, under other light
     gains = 1.0 + rng.uniform(-jitter, jitter, size=(*pairs.shape, 1, 1, 1)).astype(np.float32)
     patches = np.clip(patches * gains, 0.0, 1.0)
-    return stack_context(patches[:, 0], patches[:, 1]), pairs
+    return stack_context(patches[:, 0], patches[:, 1])
+
+
+def chain_pairs(ordering: np.ndarray, n_pairs: int, rng: np.random.Generator) -> np.ndarray:
+    """int64 (n_pairs, 2): a *chain* context, t1 > t2, t2 > t3, ... of consecutive terrains of
+    ``ordering`` (most preferred first), in shuffled order. Where the ordering has more than n_pairs + 1
+    terrains the chain runs over n_pairs + 1 of them drawn at random (kept in the ordering's order), so the
+    terrain it leaves open is any, not always the last; where it has fewer, the chain names every terrain
+    and the remaining pairs are other distinct pairs of the ordering (which the chain already implies)."""
+    ordering = np.asarray(ordering, dtype=np.int64)
+    if len(ordering) < 2:
+        return preference_pairs(ordering, n_pairs, rng)
+    if len(ordering) > n_pairs + 1:
+        ordering = ordering[np.sort(rng.choice(len(ordering), size=n_pairs + 1, replace=False))]
+    chain = [(k, k + 1) for k in range(len(ordering) - 1)]
+    upper, lower = np.triu_indices(len(ordering), k=1)
+    rest = [p for p in zip(upper.tolist(), lower.tolist()) if p not in chain]
+    chosen = chain + [rest[k] for k in rng.permutation(len(rest))][: n_pairs - len(chain)]
+    while len(chosen) < n_pairs:
+        chosen.append(chosen[int(rng.integers(len(chosen)))])
+    chosen = [chosen[k] for k in rng.permutation(len(chosen))]
+    return np.asarray([[ordering[a], ordering[b]] for a, b in chosen], dtype=np.int64)
 
 
 def uninformative_context(bank: TerrainBank, shown: Literal["seen", "unseen"], preference: Preference,

@@ -30,7 +30,7 @@ from navlab.pacer.aerial import AerialMap
 from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
-from navlab.pacer.context import preference_context, uninformative_context
+from navlab.pacer.context import chain_pairs, pair_context, preference_context, uninformative_context
 from navlab.pacer.evaluate import (
     context_pair_agreement,
     costmap_over_map,
@@ -38,6 +38,7 @@ from navlab.pacer.evaluate import (
     plan_on_costmap,
     window_oracle_costmap,
 )
+from navlab.pacer.map_windows import METRICS, MapWindow, window_scores
 from navlab.pacer.preferences import (
     environment_tiers,
     mean_consistent_ranks,
@@ -48,6 +49,8 @@ from navlab.pacer.preferences import (
 from navlab.pacer.terrain import TerrainBank
 
 Preference = Literal["realistic", "inverted"]
+# The context a method is given (``map_context``): True informative, "chain", False uninformative.
+ContextKind = bool | Literal["chain"]
 # A method: (map, ordering of its terrains, context, the context's (preferred, other) terrain pairs) ->
 # costmap in [0, 1], or None when it cannot take the preference at all (the classifier on unseen terrain).
 Method = Callable[[AerialMap, np.ndarray, np.ndarray, np.ndarray], np.ndarray | None]
@@ -66,17 +69,21 @@ class NavigationResult:
 
 
 def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, preference: Preference,
-                informative: bool, seed: int, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                informative: ContextKind, seed: int, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(hidden ordering of the map's terrains, preference context, its terrain pairs) for one map and
     preference.
 
-    Informative: the operator's pairs cover every terrain of the map where ``n_pairs`` allows (a
-    superset of whatever a BEV window shows). Uninformative (questions 1b/2b): terrains of the other
-    group (seen ↔ unseen) only, so it says nothing about this map.
+    Informative (True): the operator's pairs cover every terrain of the map where ``n_pairs`` allows (a
+    superset of whatever a BEV window shows). ``"chain"``: a chain t1 > t2 > ... of consecutive terrains
+    of the ordering (``context.chain_pairs``), which decides more pairs. Uninformative (False, questions
+    1b/2b): terrains of the other group (seen ↔ unseen) only, so it says nothing about this map.
     """
     gen = rng(seed, "pacer.navigation.context", preference, informative, index)
     ordering = order_terrains(amap.terrains, preference, bank, gen)
-    if informative:
+    if informative == "chain":
+        pairs = chain_pairs(ordering, data.n_pairs, gen)
+        context = pair_context(bank, pairs, gen, data)
+    elif informative:
         context, pairs = preference_context(bank, ordering, gen, data)
     else:
         group = bank.terrains[int(amap.terrains[0])].group
@@ -138,7 +145,7 @@ def ground_truth_method() -> Method:
     return lambda amap, ordering, context, pairs: target_costmap(amap.labels, ordering)
 
 
-def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Method, bool]], bank: TerrainBank,
+def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Method, ContextKind]], bank: TerrainBank,
                     data: PacerDataParams, preference: Preference, cost_scale: float, seed: int,
                     queries_per_map: int = 1) -> NavigationResult:
     """Tables I-IV: each method's A* paths on ``maps`` scored by the tiers of each map's own ordering.
@@ -146,7 +153,7 @@ def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Metho
     Each map is costed once per method and crossed ``queries_per_map`` times: its own start-goal pair,
     then extra crossings drawn the same way (seeded by map index). A map's share is the mean over its
     crossings; a row is the mean over maps with a bootstrap 95% interval over maps. ``methods`` maps a
-    name to (method, informative context?). A method that returns None on any map gets a row of None
+    name to (method, context kind: True informative, "chain", False uninformative; ``map_context``). A method that returns None on any map gets a row of None
     (it cannot express this preference).
     """
     queries = [[(amap.start, amap.goal)] + crossing_queries(amap.labels.shape[0], queries_per_map - 1,
@@ -233,8 +240,9 @@ def mean_margin_ranking_error(model: torch.nn.Module, dataset: Dataset, count: i
 
 NAVIGATION_COLUMNS = ["method", "low", "medium", "high", "low_ci", "medium_ci", "high_ci"]
 PHASE_COLUMNS = ["preference", "model", "low", "medium", "high", "low_ci", "medium_ci", "high_ci"]
-AGREEMENT_COLUMNS = ["model", "set", "context", "agreement", "agreement_ci", "pairs", "best_val_loss",
-                     "entropy_floor", "best_epoch", "epochs_run"]
+AGREEMENT_COLUMNS = ["model", "set", "context", "agreement", "agreement_ci", "pairs",
+                     *[c for m in METRICS for c in (m, f"{m}_ci")], "windows", "maps", "low_share", "low_share_ci",
+                     "best_val_loss", "best_select_score", "select_on", "entropy_floor", "best_epoch", "epochs_run"]
 
 
 def phase_rows(results: Mapping[Preference, NavigationResult]) -> list[dict]:
@@ -257,21 +265,71 @@ def protocol_note(data: PacerDataParams, evaluation, profile: str) -> str:
 
 
 def context_following_rows(models: Mapping[str, torch.nn.Module], sets: Mapping[tuple[str, str, str], Dataset],
-                           summaries: Mapping[str, dict], count: int, seed: int,
-                           device: str = "cpu") -> tuple[list[dict], dict[tuple[str, str, str, str], Agreement]]:
+                           summaries: Mapping[str, dict], count: int, seed: int, device: str = "cpu", *,
+                           windows: Mapping[tuple[str, str], Sequence[MapWindow]] | None = None,
+                           cost_scale: float = 10.0,
+                           ) -> tuple[list[dict], dict[tuple[str, str, str, str], Agreement]]:
     """The ``context_following`` report: held-out pair agreement of every model on every
     (terrains, preference, context draw) set, and one row per model with its best validation loss
-    beside the entropy floor of its validation targets (``summaries``: the phases' summary.json)."""
+    beside the entropy floor of its validation targets (``summaries``: the phases' summary.json) and,
+    where it was selected on them, its best map-window score.
+
+    ``windows`` ((terrains, preference) -> map windows of training geography, ``map_windows``): one more
+    row per model and set with the map-window metrics (``map_windows.METRICS``: all-pairs agreement,
+    decided and open by the context, pixel-pair AUC, tier cost ratio at ``cost_scale``), each with its
+    bootstrap 95% interval over windows."""
     rows, found = [], {}
     for name, model in models.items():
         summary = summaries[name]
         rows.append({"model": name, "set": "validation loss", "context": "training draw",
                      "best_val_loss": summary["best_val_loss"], "entropy_floor": summary["entropy_floor"],
-                     "best_epoch": summary["best_epoch"], "epochs_run": summary["epochs_run"]})
+                     "best_epoch": summary["best_epoch"], "epochs_run": summary["epochs_run"],
+                     "select_on": summary.get("select_on", "val_loss"),
+                     "best_select_score": summary.get("best_select_score")})
         for (terrains, preference, context), dataset in sets.items():
             agreement = preference_agreement(model, dataset, count, seed, device)
             found[name, terrains, preference, context] = agreement
             rows.append({"model": name, "set": f"{terrains}/{preference}", "context": context,
                          "agreement": agreement.fraction, "pairs": agreement.pairs,
                          "agreement_ci": None if agreement.ci is None else [round(v, 4) for v in agreement.ci]})
+        for (terrains, preference), items in (windows or {}).items():
+            scores = window_scores(model, items, cost_scale, seed, device=device)
+            row = {"model": name, "set": f"{terrains}/{preference}", "context": "map windows",
+                   "windows": len(items), "pairs": scores.counts["all_pairs"]}
+            for metric in METRICS:
+                ci = scores.cis[metric]
+                row |= {metric: scores.values[metric], f"{metric}_ci": None if ci is None else [round(v, 4) for v in ci]}
+            rows.append(row)
     return rows, found
+
+
+def chain_context_rows(model: str, maps: Mapping[str, Sequence[AerialMap]], method: Method, bank: TerrainBank,
+                       data: PacerDataParams, evaluation, seed: int,
+                       random: Mapping[tuple[str, Preference], NavigationResult] | None = None) -> list[dict]:
+    """``context_following`` rows: on held-out maps (``maps``: terrains -> the evaluation maps), the
+    low-tier share of ``method`` (the model named ``model``) given a chain context (t1 > t2, t2 > t3, t3 >
+    t4 of the map's ordering, ``context.chain_pairs``) against the random-pair context the tables give it,
+    on the same maps, orderings and crossings; three rows per set (random, chain, chain - random with a
+    paired bootstrap 95% interval over maps). ``random``: the tables' navigation results, whose
+    ``shares[model]`` are reused as the random-pair side (recomputed where absent)."""
+    rows = []
+    for terrains, env_maps in maps.items():
+        for preference in ("realistic", "inverted"):
+            methods: dict[str, tuple[Method, ContextKind]] = {"chain": (method, "chain")}
+            known = (random or {}).get((terrains, preference))
+            if known is None or known.shares.get(model) is None:
+                methods["random"] = (method, True)
+            result = navigation_rows(env_maps, methods, bank, data, preference, evaluation.cost_scale, seed,
+                                     evaluation.queries_per_map)
+            low = {"chain": result.shares["chain"][:, 0],
+                   "random": (result.shares["random"] if "random" in methods else known.shares[model])[:, 0]}
+            difference = low["chain"] - low["random"]
+            ci = bootstrap_mean_ci(difference, rng(seed, "pacer.chain_context.ci", terrains, preference))
+            for label, values, interval in (
+                    ("random pairs (maps)", low["random"], bootstrap_mean_ci(low["random"], rng(seed, "pacer.chain_context.ci", terrains, preference, "random"))),
+                    ("chain (maps)", low["chain"], bootstrap_mean_ci(low["chain"], rng(seed, "pacer.chain_context.ci", terrains, preference, "chain"))),
+                    ("chain - random pairs (maps)", difference, ci)):
+                rows.append({"model": model, "set": f"{terrains}/{preference}", "context": label,
+                             "maps": len(values), "low_share": float(np.mean(values)),
+                             "low_share_ci": [round(v, 4) for v in interval]})
+    return rows

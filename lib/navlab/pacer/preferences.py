@@ -140,3 +140,21 @@ def mean_consistent_ranks(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray
                 if not s >> k & 1 and before[k] & s == before[k]:
                     ranks[k] += s.bit_count() * prefix[s] * suffix[s | 1 << k]
     return ranks / prefix[full]
+
+
+def implied_pairs(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """bool (L, L): [i, j] when ``pairs`` ((preferred, other) ids) imply, by transitivity, that
+    ``terrains[i]`` is preferred to ``terrains[j]`` (the pairs a context *decides*; the rest it leaves
+    open). Pairs naming terrains outside ``terrains`` still chain through them (a > x > b decides a > b)."""
+    terrains = np.asarray(terrains, dtype=np.int64)
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    named = np.unique(np.concatenate([terrains, pairs.ravel()]))
+    index = {int(t): k for k, t in enumerate(named)}
+    closure = np.zeros((len(named), len(named)), dtype=bool)
+    for a, b in pairs:
+        if a != b:
+            closure[index[int(a)], index[int(b)]] = True
+    for k in range(len(named)):  # Warshall
+        closure |= closure[:, k:k + 1] & closure[k:k + 1, :]
+    keep = [index[int(t)] for t in terrains]
+    return closure[np.ix_(keep, keep)]

@@ -1,8 +1,12 @@
 """PACER's staged training (Sec. V-C): phase 1 D_real → phase 2 + D_shuffled → phase 3 + D_synthetic.
 
-Each phase starts from the previous phase's weights and trains until its validation loss stops
+Each phase starts from the previous phase's weights and trains until its selection score stops
 improving: the learning rate follows a cosine decay over the phase's maximum epochs, the best
-validation checkpoint is kept, and training stops after ``patience`` epochs without improvement.
+checkpoint is kept, and training stops after ``patience`` epochs without improvement. What "best"
+means is ``pacer.train.select_on``: ``map_windows`` (the default, issue 24) the highest pixel-pair AUC
+on a fixed, seeded set of validation map windows cut from training geography
+(``map_windows.selection_score``: it tracks navigation, which the loss and named-pair agreement do not),
+the validation loss breaking ties; ``val_loss`` the lowest validation loss (the behaviour before).
 An epoch draws ``examples_per_epoch`` examples,
 first a dataset uniformly among the phase's datasets (as the paper does), then an example uniformly
 within it; the draw is keyed by (seed, phase, epoch), and datasets that render examples on the fly
@@ -10,8 +14,9 @@ are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run res
 the batches an uninterrupted run would have seen and ends at the same weights.
 
 Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the best
-weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`), ``summary.json`` (best
-epoch and validation loss beside the entropy floor of the validation targets). The checkpoint is keyed on
+weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`: train and validation loss
+and the map-window score, NaN when not measured), ``summary.json`` (best epoch, its validation loss beside the
+entropy floor of the validation targets, what it was selected on and its score). The checkpoint is keyed on
 ``run_key``: the code fingerprint of the training and dataset modules, every parameter that shapes the
 weights (epochs included, so fewer epochs give the shorter model), the inputs and the initial weights;
 only a run of the same key resumes.
@@ -20,6 +25,7 @@ only a run of the same key resumes.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -35,11 +41,13 @@ from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
 from navlab.pacer.checkpoints import load_network, resume_checkpoint, save_torch
 from navlab.pacer.loss import entropy_floor, masked_bce
+from navlab.pacer.map_windows import MapWindow, selection_score
 from navlab.pacer.model import PacerNet, build_model
 
 PHASES = ("phase1", "phase2", "phase3")
 PHASE_DATASETS = {"phase1": ("real",), "phase2": ("real", "shuffled"), "phase3": ("real", "shuffled", "synthetic")}
 BATCH_KEYS = ("image", "context", "costmap", "fov_mask")
+SELECT_ON = ("map_windows", "val_loss")  # pacer.train.select_on
 
 
 def collate(items: Sequence[dict]) -> dict[str, torch.Tensor]:
@@ -90,6 +98,16 @@ def run_key(model_cfg: PacerModelParams, train_cfg: PacerTrainParams, *, seed: i
                         "phase": phase, "epochs": epochs, "sizes": list(sizes), "init": init, "inputs": inputs})
 
 
+def windows_fingerprint(windows: Sequence[MapWindow]) -> str:
+    """sha256 of the selection windows' images, labels, orderings, contexts and pairs (they are part of what
+    a run is: the street maps they are cut from are not in the terrain inputs)."""
+    digest = hashlib.sha256()
+    for w in windows:
+        for array in (w.image, w.labels, w.ordering, w.context, w.pairs):
+            digest.update(np.ascontiguousarray(array).tobytes())
+    return digest.hexdigest()
+
+
 def training_code(datasets: Sequence[Dataset]) -> str:
     """Fingerprint of this module and the navlab modules that define ``datasets`` (they render the examples)."""
     modules = {type(ds).__module__ for ds in datasets}
@@ -98,8 +116,9 @@ def training_code(datasets: Sequence[Dataset]) -> str:
 
 
 def _write_log(rows: list[dict], path: Path) -> None:
-    lines = ["epoch\ttrain_loss\tval_loss"] + [f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}"
-                                               for r in rows]
+    lines = ["epoch\ttrain_loss\tval_loss\tselect_score"] + [
+        f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}\t{r.get('select_score', float('nan')):.6f}"
+        for r in rows]
     write_text(path, "\n".join(lines) + "\n")
 
 
@@ -145,6 +164,20 @@ def epoch_batches(datasets: Sequence[Dataset], draws: Sequence[tuple[int, int]],
                       num_workers=workers, persistent_workers=False)
 
 
+def improves(select_on: str, score: float, val: float, best: dict) -> bool:
+    """Whether an epoch of ``score`` (map-window selection score, higher is better; NaN when not measured)
+    and validation loss ``val`` beats ``best``: on ``val_loss`` by the loss alone; on ``map_windows`` by the
+    score, a tie (or a NaN score, where no window shows two terrains) falling back to the loss."""
+    if select_on not in SELECT_ON:
+        raise ValueError(f"pacer.train.select_on = {select_on!r}: allowed values are {', '.join(SELECT_ON)}")
+    if best["weights"] is None:
+        return True
+    best_score = best.get("score", float("nan"))
+    if select_on == "map_windows" and not (np.isnan(score) and np.isnan(best_score)) and score != best_score:
+        return bool(np.nan_to_num(score, nan=-np.inf) > np.nan_to_num(best_score, nan=-np.inf))
+    return val < best["val_loss"]
+
+
 def cosine_lr(step: int, total: int, lr: float, final_fraction: float) -> float:
     """Cosine decay from ``lr`` at step 0 to ``lr * final_fraction`` at step ``total`` (Loshchilov and
     Hutter, SGDR, ICLR 2017, without restarts)."""
@@ -166,24 +199,35 @@ def train_phase(
     init_from: str | Path | None = None,
     inputs: Any = None,
     progress: bool = True,
+    select_windows: Sequence[MapWindow] = (),
+    cost_scale: float = 10.0,
 ) -> Path:
     """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``.
 
     Up to ``epochs`` epochs with the learning rate decayed by a cosine over all of them; after every
-    epoch the validation loss is measured and the weights with the lowest one are kept; training stops
-    early once it has not improved for ``train_cfg.patience`` epochs. ``model.pt`` holds the best
+    epoch the validation loss (and, with ``train_cfg.select_on`` map_windows, the selection score on
+    ``select_windows`` at the planner's ``cost_scale``) is measured and the best weights (``improves``)
+    are kept; training stops early once they have not improved for ``train_cfg.patience`` epochs. ``model.pt`` holds the best
     weights, ``summary.json`` the best epoch, its validation loss and the entropy floor of the
     validation targets (the lowest loss any model can reach, :func:`navlab.pacer.loss.entropy_floor`).
     ``inputs``: a fingerprint of the files the datasets read (part of the run key).
     """
     out_dir = Path(out_dir)
+    if train_cfg.select_on not in SELECT_ON:
+        raise ValueError(f"pacer.train.select_on = {train_cfg.select_on!r}: allowed values are {', '.join(SELECT_ON)}")
+    if train_cfg.select_on == "map_windows" and not select_windows:
+        raise ValueError(f"{phase}: pacer.train.select_on = 'map_windows' needs validation map windows "
+                         "(select_windows=, navlab.pacer.map_windows.map_windows); or select on val_loss")
     device = resolve_device(train_cfg.device)
     torch.set_num_threads(train_cfg.threads)
     init_from = Path(init_from) if init_from is not None else None
     initial = load_model(init_from, device) if init_from is not None else None  # missing/corrupt: says so first
     sizes = [len(ds) for ds in train_sets]
+    select = train_cfg.select_on == "map_windows"
     key = run_key(model_cfg, train_cfg, seed=seed, phase=phase, epochs=epochs, sizes=sizes, init_from=init_from,
-                  code=training_code([*train_sets, *val_sets]), inputs=inputs)
+                  code=training_code([*train_sets, *val_sets]),
+                  inputs={"files": inputs, "cost_scale": cost_scale if select else None,
+                          "select_windows": windows_fingerprint(select_windows) if select else None})
     steps_per_epoch = -(-train_cfg.examples_per_epoch // train_cfg.batch_size)
 
     # the validation items are the same every epoch (no ``set_epoch``): render them once, not per epoch
@@ -193,7 +237,7 @@ def train_phase(
     model = build_model(model_cfg, context_pairs=context_pairs, device=device).to(memory_format=torch.channels_last)
     optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
     rows: list[dict] = []
-    best = {"epoch": 0, "val_loss": float("inf"), "weights": None}
+    best = {"epoch": 0, "val_loss": float("inf"), "score": float("nan"), "weights": None}
     checkpoint_path = out_dir / "checkpoint.pt"
     checkpoint = resume_checkpoint(checkpoint_path, key, device)
     if checkpoint is not None:
@@ -227,11 +271,14 @@ def train_phase(
             optimiser.step()
             losses.append(loss.item())
         val = validation_loss(model, val_items, train_cfg.batch_size, device)
-        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val})
-        if val < best["val_loss"]:
-            best = {"epoch": epoch + 1, "val_loss": val,
+        score = (selection_score(model, select_windows, cost_scale, batch=train_cfg.batch_size, device=device)
+                 if select else float("nan"))
+        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score})
+        if improves(train_cfg.select_on, score, val, best):
+            best = {"epoch": epoch + 1, "val_loss": val, "score": score,
                     "weights": {k: v.detach().clone() for k, v in model.state_dict().items()}}
-        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}", best=best["epoch"])
+        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}", score=f"{score:.4f}",
+                        best=best["epoch"])
         save_torch(checkpoint_path, {"key": key, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
                                      "log": rows, "best": best})
         _write_log(rows, out_dir / "val_loss.tsv")
@@ -242,6 +289,8 @@ def train_phase(
     write_json(out_dir / "summary.json", {
         "phase": phase, "epochs_run": len(rows), "max_epochs": epochs, "stopped_early": len(rows) < epochs,
         "best_epoch": best["epoch"], "best_val_loss": best["val_loss"] if best["weights"] is not None else None,
+        "select_on": train_cfg.select_on,
+        "best_select_score": best["score"] if select and best["weights"] is not None else None,
         "entropy_floor": entropy_floor(val_items), "steps": len(rows) * steps_per_epoch,
     })
     model_path = out_dir / "model.pt"

@@ -23,6 +23,7 @@ from typing import Any
 import yaml
 
 from navlab.core.params import load_params
+from navlab.pipeline.results import FIGURES
 from navlab.pipeline.stages import stage_sources
 
 RESOLVED = "params.resolved.yaml"
@@ -60,7 +61,8 @@ def _artifact(name: str, params: tuple[str, ...], inputs: tuple[str, ...], outs:
 
 _PACER_TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch", "pacer.train.val_examples",
                 "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction", "pacer.train.patience",
-                "pacer.train.device", "pacer.train.threads")  # float results follow the device and thread count
+                "pacer.train.device", "pacer.train.threads", "pacer.train.select_on", "pacer.train.select_windows",
+                "pacer.evaluation.cost_scale")  # float results follow the device and thread count
 _SURENAV_RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.train", "surenav.planner")
 _HJ_SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
@@ -72,6 +74,8 @@ _CONTEXT_DRAW = tuple(f"surenav.demos.context.{k}"
                       for k in ("seed", "test_pairs_per_map", "train_pairs_per_map", "val_tiles", "max_train_tiles"))
 _FIG = "reports/{}/figures/"
 _MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
+# The index's outputs, committed to git (cache: false): the results page and its figure copies, so GitHub shows them.
+INDEX_OUTS = ("reports/README.md", "reports/figures")
 
 STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
@@ -145,6 +149,13 @@ STAGES: tuple[Stage, ...] = (
               ("reports/hj/table8_rooms.json", "reports/hj/table9_humans.json")),
     _notebook("hj_compute", "notebooks/hj/05_compute.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               metrics=("reports/hj/table7_compute.json",)),
+    dataclasses.replace(  # issue 26's curves; each point cached (resumable) under artifacts/hj_sensitivity
+        _notebook("hj_sensitivity", "notebooks/hj/06_sensitivity.ipynb", (*_HJ_LOOP, "hj.seed", "hj.sensitivity"),
+                  ("artifacts/hj", _MARGINS),
+                  ("artifacts/hj_sensitivity", *(_FIG.format("hj") + f"sensitivity_{k}.png"
+                                                 for k in ("budget", "replan_hz", "human_noise_m", "human_prediction_s"))),
+                  ("reports/hj/sensitivity_budget.json", "reports/hj/sensitivity_loop.json")),
+        persist=("artifacts/hj_sensitivity",)),
 )
 
 # Training curves for `dvc plots show`: (file, x, y columns, title)
@@ -153,15 +164,18 @@ PLOTS = (
      "SuReNav estimator (GPS, seed 0) Eq. 13 loss and validation / train relaxation IoU per epoch"),
     ("artifacts/surenav/mpnn/seed0/log.tsv", "epoch", ["train_loss", "val_loss", "val_iou", "train_iou"],
      "SuReNav MPNN-only ablation (seed 0) per epoch"),
-    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss"], f"PACER phase {k} ({what}) loss per epoch")
+    *((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ["train_loss", "val_loss", "select_score"],
+       f"PACER phase {k} ({what}) loss and map-window selection score (pixel-pair AUC) per epoch")
       for k, what in ((1, "D_real"), (2, "D_real + D_shuffled"), (3, "+ D_synthetic"))),
 )
 
 
 def all_stages() -> tuple[Stage, ...]:
-    """The registry plus the last stage, which indexes every report the others write."""
+    """The registry plus the last stage, which indexes every report the others write and copies the
+    figures the results page shows (``navlab.pipeline.results.FIGURES``)."""
     metrics = tuple(m for s in STAGES for m in s.metrics)
-    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), metrics, outs=(),
+    figures = tuple(f"reports/{source}" for chosen in FIGURES.values() for source, _ in chosen)
+    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), (*metrics, *figures), outs=(),
                            metrics=()))
 
 
@@ -174,7 +188,7 @@ def stage_entry(stage: Stage, root: Path) -> dict[str, Any]:
         entry["params"] = [{RESOLVED: ["profile", *stage.params]}]
     outs = [{o: {"persist": True}} if o in stage.persist else o for o in stage.outs]
     if stage.name == "reports_index":
-        outs.append({"reports/README.md": {"cache": False}})
+        outs += [{o: {"cache": False}} for o in INDEX_OUTS]
     if outs:
         entry["outs"] = outs
     if stage.metrics:
@@ -242,7 +256,7 @@ def stale_stages(root: str | Path) -> list[str]:
         last = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit {run.returncode}"
         raise DvcStatusError(f"`dvc status` failed, so dvc.lock could not be checked: {last}")
     built = {o for s in all_stages() for o in (*s.outs,)}
-    committed = {m for s in all_stages() for m in s.metrics} | {"reports/README.md"}
+    committed = {m for s in all_stages() for m in s.metrics} | set(INDEX_OUTS)
     lines = []
     for name, changes in sorted(json.loads(run.stdout or "{}").items()):
         why = Why()

@@ -56,7 +56,7 @@ def entry_modules(cmd: str, root: str | Path) -> list[str]:
     if (group, sub) == ("data", "build"):
         return sorted({fn.__module__ for _, fn in data_steps()} | {"navlab.pipeline.dataset"})
     if (group, sub) == ("reports", "index"):
-        return ["navlab.pipeline.reports"]
+        return ["navlab.pipeline.results"]
     raise ValueError(f"stage command {cmd!r}: no entry point known for `{group} {sub}`; add it to "
                      "navlab.pipeline.stages.entry_modules")
 

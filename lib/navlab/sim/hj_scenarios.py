@@ -80,7 +80,9 @@ class ClosedLoop:
                 f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
         return (f"Between re-plans (sim.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
-                f"for up to {c.rest_periods} period(s) while it waits; a start inside the static BRT's margin but clear "
+                f"for up to {c.rest_periods} period(s) while it waits; without a plan the car brakes straight where "
+                f"that stops clear of the walls, else swerves (the one step after which braking does), else keeps the "
+                f"plan in force; a start inside the static BRT's margin but clear "
                 f"of obstacles is planned from with the pruning threshold at its own value. Plans start from the "
                 f"observed speed exactly (the first step absorbs the gap to a lattice level) and the car executes "
                 f"their commands unmodified, so it drives the trajectory the pruners checked from the observed pose; "

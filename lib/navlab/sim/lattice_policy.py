@@ -20,9 +20,12 @@ Human handling, the three rows of Tables VI and IX:
   the humans are discs added to the clearance field of the OBS static pruner, re-built per re-plan.
 
 A plan that cannot start (the observed state already pruned) or is not found within the budget is an
-empty command list: the simulator then brakes. With a human pruner on and humans in view, the policy
-evades instead (``_evade``: the one step that keeps the human BRT value highest, an ``Evasion`` the
-simulator counts as no plan in force).
+empty command list: the simulator then brakes straight. Where braking straight would not stop clear of the
+walls, the policy swerves instead (``_stop``: the first step after which braking straight does), and where
+no step does, it keeps the plan in force (re-checked from a pose 2 cm off, it may fail, but it was checked
+clear where it was issued, while braking runs into the wall for certain). With a human pruner on and
+humans in view, the policy evades (``_evade``: the one step that keeps the human BRT value highest). Both
+are an ``Evasion``, which the simulator counts as no plan in force.
 
 Between re-plans the anytime search is not thrown away blindly (``reuse``): when a re-plan stops at the
 expansion limit without a plan, the policy re-checks the next ``reuse_horizon_s`` of the plan the car is
@@ -204,10 +207,14 @@ class LatticePolicy:
             return result.controls
         if self.reuse and result.status == "expansion limit" and self._still_safe(observation, static, human):
             return None
-        self._current = None
         if human.kind != NO_HUMAN.kind:
+            self._current = None
             return self._evade(state, humans, velocities)
-        return np.zeros((0, 2))
+        stop = self._stop(state)
+        if stop is None and self.reuse and 0.0 < self._remaining_s(observation) < np.inf:
+            return None  # nothing stops clear: the plan in force, checked clear where it was issued, is the least bad
+        self._current = None
+        return np.zeros((0, 2)) if stop is None else stop
 
     def _collision(self, static: StaticPruner) -> StaticPruner:
         """The search's swept collision check: an OBS static pruner is one; a BRT one gets ``_obs``."""
@@ -228,13 +235,33 @@ class LatticePolicy:
             at = np.broadcast_to(xy + times[:, None] * v, (n, m, 2)).reshape(-1, 2)
             value = np.minimum(value, self.human_brt(samples.reshape(-1, 4), at).reshape(n, m).min(axis=1))
         brake = int(np.argmin(np.where(controls[:, 1] == 0.0, controls[:, 0], np.inf)))  # hardest, straight
-        if value[brake] >= self.fi.margin:
-            return np.zeros((0, 2))
-        swept = self._obs.swept(np.broadcast_to(state, (n, 4)), samples, np.full(n, self.spec.dt))
-        clear = np.array([not hit and self._brakes_clear(seg[-1:]) for hit, seg in zip(swept, samples, strict=True)])
-        if not clear.any():
-            return np.zeros((0, 2))
+        if value[brake] >= self.fi.margin or not (clear := self._stops_clear(state, samples)).any():
+            stop = self._stop(state)
+            return np.zeros((0, 2)) if stop is None else stop
         best = int(np.argmax(np.where(clear, value, -np.inf)))
+        return Evasion(controls[best:best + 1])
+
+    def _stops_clear(self, state: np.ndarray, samples: np.ndarray) -> np.ndarray:
+        """Per first-step segment (P, S, 4) from ``state``: swept clear of the walls, and braking straight
+        from its end stops clear of them too."""
+        n = len(samples)
+        swept = self._obs.swept(np.broadcast_to(state, (n, 4)), samples, np.full(n, self.spec.dt))
+        return np.array([not hit and self._brakes_clear(seg[-1:]) for hit, seg in zip(swept, samples, strict=True)])
+
+    def _stop(self, state: np.ndarray) -> np.ndarray | Evasion | None:
+        """No plan in force: brake straight (the simulator's fallback, an empty command list) where that stops
+        clear of the walls; else the first step, swept clear, after which braking straight does, the hardest
+        braking first (a one-step safety controller, re-decided at every re-plan); None where no step does.
+        Braking straight from 1 m/s needs 1 m: a car that gave up a plan turning away from a wall 0.4 m ahead
+        (its re-check from a pose 2 cm off failed) braked straight into it (a Dense Room wall hit, measured)."""
+        if state[2] <= 0.0 or self._brakes_clear(state[None]):
+            return np.zeros((0, 2))
+        rows, controls = first_step(self.spec, float(state[2]))
+        clear = self._stops_clear(state, place(rows, state))
+        if not clear.any():
+            return None
+        order = np.lexsort((np.abs(controls[:, 1]), controls[:, 0]))  # hardest braking, then least turning
+        best = int(order[np.argmax(clear[order])])
         return Evasion(controls[best:best + 1])
 
     def _remaining_s(self, observation) -> float:

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from navlab.core.params.fields import between
-from navlab.core.params.hj_dynamic import DynamicParams
+from navlab.core.params.hj_dynamic import DynamicParams, SensitivityParams
 
 
 @dataclass(frozen=True)
@@ -176,3 +176,4 @@ class HJParams:
     grids: GridsParams
     planner: PlannerParams
     dynamic: DynamicParams
+    sensitivity: SensitivityParams

@@ -94,6 +94,18 @@ class Table9Params:
 
 
 @dataclass(frozen=True)
+class SensitivityParams:
+    """Issue 26: the closed-loop claims whose verdict rests on settings the paper does not state, as curves.
+    Every other setting is the tables' own (hj.dynamic); each point is one cached run of the whole cell."""
+
+    budgets: tuple[int, ...] = between(1)  # ANA* expansions per re-plan: Table VIII's rooms, its four rows
+    replan_hz: tuple[float, ...] = between(0.1, 100.0)  # Table VI's scenarios at its own (exact) sensing
+    human_noise_m: tuple[float, ...] = between(0.0, 1.0)  # Table VI's scenarios at hj.dynamic.closed_loop's rate
+    human_prediction_s: tuple[float, ...] = between(0.0, 60.0)  # Table VI: FI/FS prune the humans this far ahead
+    workers: int = between(1, 64)  # processes running points (results do not depend on it)
+
+
+@dataclass(frozen=True)
 class DynamicParams:
     seed: int = between(0)  # run r of a cell uses seed + r (noise draws)
     closed_loop: ClosedLoopParams

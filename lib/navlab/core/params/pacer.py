@@ -116,6 +116,10 @@ class PacerTrainParams:
     patience: int = between(1)  # stop a phase after this many epochs without a lower validation loss
     threads: int = between(1, 64)  # torch CPU threads; 1 on shared machines (oversubscription stalls)
     workers: int = between(0, 64)  # DataLoader processes rendering training items (0: in the main process)
+    # what keeps a phase's best weights: map_windows (pixel-pair AUC on validation windows of training-geography
+    # street maps, the loss breaking ties; tracks navigation, issue 24) or val_loss (the validation loss alone)
+    select_on: Literal["map_windows", "val_loss"]
+    select_windows: int = between(1)  # validation map windows scored after every epoch (map_windows)
 
 
 @dataclass(frozen=True)

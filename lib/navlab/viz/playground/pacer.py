@@ -10,8 +10,8 @@ them, and caches what they give.
 
 How a person's pairs become the three methods' input:
 
-- the context: each pair's two patches are drawn by ``preference_context`` exactly as the datasets
-  draw them, seeded by the pair, so a pair always shows the same patches; the trained network reads
+- the context: each pair's two patches are drawn by ``pair_context`` exactly as the datasets draw
+  them, seeded by the pair, so a pair always shows the same patches; the trained network reads
   ``pacer.data.n_pairs`` pairs, so fewer pairs are repeated in turn (as ``preference_pairs`` repeats
   when an ordering has too few). No pair at all is the uninformative context of notebook 02 (patches of
   the other terrain group only, ``map_context(..., informative=False)``).
@@ -23,7 +23,6 @@ How a person's pairs become the three methods' input:
 
 from __future__ import annotations
 
-import dataclasses
 import html
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
@@ -43,7 +42,7 @@ from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.pacer.aerial import AerialMap, aerial_map
 from navlab.pacer.baselines.sterling import SterlingEncoder, load_sterling
 from navlab.pacer.bev import fov_mask
-from navlab.pacer.context import context_patch, preference_context
+from navlab.pacer.context import context_patch, pair_context
 from navlab.pacer.evaluate import plan_on_costmap, stitch_windows
 from navlab.pacer.experiments import map_context, sterling_method, window_oracle_method
 from navlab.pacer.preferences import environment_tiers
@@ -295,8 +294,7 @@ class PacerPlayground:
         seed = self.params.pacer.seed
         if not pairs:
             return map_context(self.bank, self.data, self.maps(group, index), "realistic", False, seed, index)[1]
-        one = dataclasses.replace(self.data, n_pairs=1)
-        drawn = [preference_context(self.bank, np.asarray(pair), rng(seed, "playground.pair", *pair), one)[0]
+        drawn = [pair_context(self.bank, np.asarray([pair]), rng(seed, "playground.pair", *pair), self.data)
                  for pair in pairs]
         return np.concatenate([drawn[k % len(drawn)] for k in range(self.data.n_pairs)])
 

@@ -1,0 +1,341 @@
+"""The results page (``reports/README.md``) and the front door's headline block, generated from the reports.
+
+Why generated: a number typed by hand goes stale the next time a stage runs. The page shows, per paper and
+in the paper's order, only the paper's own columns with our 95% interval inline (``0.75 [0.47, 0.91]``)
+and the paper's number beside ours where it prints one; diagnostics (intervals as columns, seed spreads,
+failure counts, timings) stay in each table's own ``.md``/JSON. Each paper gets one claims table (claim,
+paper's number, ours, verdict, why), read from a report's typed ``claims`` list when it has one, else
+from the claim sentences the table code writes into its notes (:func:`claims_of`). A few chosen figures
+per track are copied into ``reports/figures/`` (tracked in git, unlike the stages' own figure folders) so
+the page and README.md show them on GitHub.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from navlab.core.io import DataError, write_text
+from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
+
+INDEX = "README.md"
+FIGURES_DIR = "figures"  # under reports/: the copies the page shows (the `reports_index` stage's output)
+BEGIN = "<!-- results: written by `python -m navlab reports index` from reports/; do not edit by hand -->"
+END = "<!-- /results -->"
+
+
+@dataclass(frozen=True)
+class Paper:
+    name: str
+    title: str
+    link: str
+
+
+PAPERS = {  # report folder -> the paper it reproduces, in the order the page shows them
+    "surenav": Paper("SuReNav", "Superpixel Graph-based Constraint Relaxation for Navigation in Over-constrained "
+                     "Environments", "https://arxiv.org/abs/2602.06807"),
+    "hj": Paper("HJ-search", "A Hamilton-Jacobi Reachability-Guided Search Framework for Efficient and Safe Indoor "
+                "Planar Robot Navigation", "https://arxiv.org/abs/2604.17679"),
+    "pacer": Paper("PACER", "Preference-conditioned All-terrain Costmap Generation", "https://arxiv.org/abs/2410.23488"),
+}
+OTHER = "Pipeline check"  # report folders that reproduce no paper (the quickstart)
+
+# (source under reports/, caption): the first of each track is also the front door's figure. Each source
+# is a dep of the `reports_index` stage (navlab.pipeline.dvc_yaml), so a new figure re-runs the index.
+FIGURES: dict[str, tuple[tuple[str, str], ...]] = {
+    "surenav": (("surenav/figures/fig5_behaviours.png",
+                 "Fig. 5: each method's executed path on one semi-static episode per test tile"),
+                ("surenav/figures/fig4_safety_efficiency.png", "Fig. 4: SPL against total risk per test tile")),
+    "hj": (("hj/figures/fig10_dense_snapshots.png", "Fig. 10: TTR + OBS against TTR + BRT in the Dense Room"),
+           ("hj/figures/fig8_face_to_face.png", "Fig. 8: FI-BRT, FS-BRT and OBS meeting a human head-on")),
+    "pacer": (("pacer/figures/01_costmaps/fig1_fig4_paths.png",
+               "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),
+              ("pacer/figures/03_phase_ablation/preference_agreement.png",
+               "Held-out preference agreement per training phase")),
+}
+
+# The front door's headline rows: (table id, row key, columns); a test checks each exists in the reports.
+HEADLINE: dict[str, tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]] = {
+    "surenav": (("table1_human_likeness", ("SuReNav",), ("frechet", "relaxation_iou")),
+                ("fig4_safety_efficiency", ("SuReNav", "milan"), ("sr",))),
+    "hj": (("table5_static_general", ("TTR + BRT",), ("success", "nodes_common")),
+           ("table6_dynamic", ("FI-BRT", "Face-to-Face"), ("success",)),
+           ("table8_rooms", ("TTR + BRT", "Dense Room"), ("success",))),
+    "pacer": (("table1_seen", ("PACER",), ("low",)),
+              ("table2_unseen", ("PACER",), ("low",)),
+              ("table5_margin_ranking", ("D_synthetic",), ("test_synthetic",))),
+}
+
+# Columns shown where the paper prints no table to take them from (or, for Fig. 4, a scatter's axes).
+SHOWN = {
+    "surenav/fig4_safety_efficiency": ("sr", "spl", "total_risk"),
+    "surenav/estimator_relaxation_iou": ("val_iou", "test_iou"),
+    "pacer/context_following": ("agreement",),
+}
+
+
+# ---------------------------------------------------------------------------------------------- claims
+
+VERDICTS = {"holds": "holds", "does not hold": "does not hold", "inconclusive": "inconclusive",
+            "undecided": "inconclusive"}
+_VERDICT = r"(?P<verdict>holds|does not hold|inconclusive|undecided)"
+_QUOTED = re.compile(r"Claim '(?P<text>[^']+)': " + _VERDICT + r" \(", re.IGNORECASE)  # PACER's sentences
+_LISTED = re.compile(r"(?P<text>[^;|]+?): " + _VERDICT + r" \(", re.IGNORECASE)  # "Claims: a: holds (..); b: .."
+
+
+@dataclass(frozen=True)
+class Claim:
+    claim: str
+    paper: str  # the paper's number, where the claim quotes one
+    ours: str
+    verdict: str  # holds / does not hold / inconclusive
+    why: str
+
+
+def claims_of(report: dict[str, Any]) -> list[Claim]:
+    """The paper's claims checked in ``report``: its typed ``claims`` list (keys claim, paper, ours, verdict,
+    why) where it has one, else the claim sentences of its notes, written by the table code in one of two
+    forms: ``Claims: <claim>: <verdict> (<ours>[; paper <n>][; why: <why>])``, separated by ``;`` or ``|``,
+    or ``Claim '<claim>': <verdict> (<ours>).``"""
+    if report.get("claims"):
+        return [Claim(c["claim"], str(c.get("paper") or ""), str(c.get("ours") or ""),
+                      VERDICTS[c["verdict"].lower()], c.get("why") or "") for c in report["claims"]]
+    notes = report["notes"]
+    found = [_claim(m, notes) for m in _QUOTED.finditer(notes)]
+    start = notes.find("Claims: ")
+    pos = start + len("Claims: ") if start >= 0 else len(notes)
+    while (m := _LISTED.match(notes, pos)) is not None:
+        found.append(_claim(m, notes))
+        pos = m.end() - 1 + len(_balanced(notes, m.end() - 1))
+        sep = re.match(r"; | \| ", notes[pos:])
+        if not sep:
+            break
+        pos += sep.end()
+    return found
+
+
+def _balanced(text: str, i: int) -> str:
+    """The parenthesised group opening at ``text[i]``, both parentheses included."""
+    depth = 0
+    for j in range(i, len(text)):
+        depth += {"(": 1, ")": -1}.get(text[j], 0)
+        if depth == 0:
+            return text[i:j + 1]
+    return text[i:]
+
+
+def _claim(m: re.Match, notes: str) -> Claim:
+    detail = _balanced(notes, m.end() - 1)[1:-1]
+    ours, _, why = detail.partition("; why: ")
+    parts = ours.split("; ")
+    paper = [p.removeprefix("paper ") for p in parts if p.startswith("paper ")]
+    ours = "; ".join(p for p in parts if not p.startswith("paper ")).removeprefix("ours: ")
+    return Claim(m["text"].strip(), "; ".join(paper), ours, VERDICTS[m["verdict"].lower()], why)
+
+
+# ---------------------------------------------------------------------------------------------- tables
+
+def _num(v: Any) -> str:
+    """Three significant figures, whole numbers from 100 up (node counts, metres), never exponents."""
+    if v is None:
+        return "—"
+    if isinstance(v, bool) or not isinstance(v, int | float):
+        return str(v)
+    if isinstance(v, int) or abs(v) >= 100:
+        return f"{v:,.0f}"
+    return f"{v:.3g}"
+
+
+def _cell(row: dict[str, Any], col: str) -> str:
+    """Our value with its 95% interval inline where the report has one (``<col>_ci``)."""
+    ci = row.get(f"{col}_ci")
+    interval = f" [{_num(ci[0])}, {_num(ci[1])}]" if isinstance(ci, list) and len(ci) == 2 and row.get(col) is not None else ""
+    return _num(row.get(col)) + interval
+
+
+def shown_columns(report: dict[str, Any], track: str) -> list[str]:
+    """The paper's own columns (those its printed rows carry), else the ``SHOWN`` choice, else ours less
+    intervals and spreads."""
+    keys = key_columns(report)
+    chosen = SHOWN.get(f"{track}/{report['table_id']}")
+    if chosen:
+        return list(chosen)
+    paper_cols = {c for r in report["paper"] for c in r}
+    if paper_cols:
+        return [c for c in report["columns"] if c in paper_cols and c not in keys]
+    return [c for c in report["columns"] if c not in keys and not c.endswith(("_ci", "_sd"))]
+
+
+def table_markdown(report: dict[str, Any], track: str) -> list[str]:
+    """One table: a row per method (ours, then the paper's rows we did not run); beside each column the
+    paper's number where the paper prints any for it."""
+    keys, cols = key_columns(report), shown_columns(report, track)
+    paper = {tuple(r.get(k) for k in keys): r for r in report["paper"]}
+    ours = {tuple(r.get(k) for k in keys): r for r in report["rows"]}
+    printed = [c for c in cols if any(isinstance(r.get(c), int | float) for r in report["paper"])]
+    both = [k for k in paper if k in ours]
+    same = [c for c in printed if both and all(ours[k].get(c) == paper[k].get(c) for k in both)]
+    printed = [c for c in printed if c not in same]  # a denominator both share (tasks, runs) needs one column
+    header = [*keys]
+    for c in cols:
+        header += [c, f"{c} (paper)"] if c in printed else [c]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for key in [*ours, *(k for k in paper if k not in ours)]:
+        mine, theirs = ours.get(key), paper.get(key, {})
+        if mine is not None and all(mine.get(c) is None for c in cols) and not theirs:
+            continue  # a diagnostic row (e.g. a validation loss): its own .md has it
+        cells = [str(k) for k in key]
+        for c in cols:
+            cells.append(_cell(mine, c) if mine is not None else "not run")
+            if c in printed:
+                cells.append(_num(theirs[c]) if theirs.get(c) is not None else "")
+        lines.append("| " + " | ".join(cells) + " |")
+    unprinted = [c for c in cols if c not in printed and c not in same]
+    if track not in PAPERS:
+        return lines
+    if not printed and not same:
+        return [*lines, "", "The paper prints no number for this table."]
+    notes = [f"The paper's {', '.join(same)}: the same as ours."] if same else []
+    notes += [f"The paper prints no number for {', '.join(unprinted)}."] if unprinted else []
+    return [*lines, "", " ".join(notes)] if notes else lines
+
+
+def _claims_table(claims: list[tuple[str, Claim]]) -> list[str]:
+    lines = ["| table | claim | paper | ours | verdict | why |", "|---|---|---|---|---|---|"]
+    for table, c in claims:
+        cells = (table, c.claim, c.paper, c.ours, f"**{c.verdict}**" if c.verdict != "holds" else c.verdict, c.why)
+        lines.append("| " + " | ".join(s.replace("|", "\\|") for s in cells) + " |")
+    return lines
+
+
+def _anchor(heading: str) -> str:
+    """GitHub's anchor for a Markdown heading."""
+    return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
+
+
+def read_tracks(reports_dir: Path) -> dict[str, list[tuple[str, dict[str, Any]]]]:
+    """{track: [(table id, report)]}: papers first in ``PAPERS`` order, each paper's tables in its order
+    (``TABLE_IDS``), then our extra tables; folders of no paper last."""
+    found: dict[str, list[tuple[str, dict[str, Any]]]] = {}
+    for path in sorted(reports_dir.glob("*/*.json")):
+        found.setdefault(path.parent.name, []).append((path.stem, read_table(path)))
+    order = [*PAPERS, *sorted(t for t in found if t not in PAPERS)]
+    return {t: sorted(found[t], key=lambda item: (list(TABLE_IDS.get(t, ())) + [item[0]]).index(item[0]))
+            for t in order if t in found}
+
+
+def _copy_name(track: str, source: str) -> str:
+    return f"{track}_{Path(source).name}"
+
+
+def copy_figures(reports_dir: Path) -> None:
+    """Copy each chosen figure that exists into ``reports/figures/`` (one not built here keeps its copy)."""
+    for track, figures in FIGURES.items():
+        for source, _ in figures:
+            if (reports_dir / source).is_file():
+                (reports_dir / FIGURES_DIR).mkdir(exist_ok=True)
+                shutil.copyfile(reports_dir / source, reports_dir / FIGURES_DIR / _copy_name(track, source))
+
+
+def shown_figures(reports_dir: Path) -> dict[str, list[tuple[str, str]]]:
+    """{track: [(copy's name, caption)]} of the figure copies present: the page links no missing file."""
+    return {track: [(_copy_name(track, source), caption) for source, caption in figures
+                    if (reports_dir / FIGURES_DIR / _copy_name(track, source)).is_file()]
+            for track, figures in FIGURES.items()}
+
+
+def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
+                figures: dict[str, list[tuple[str, str]]]) -> str:
+    profiles = sorted({report["profile"] for reports in tracks.values() for _, report in reports})
+    parts = [
+        "# Reproduced results",
+        "",
+        "Generated by `python -m navlab reports index` from the report JSONs (profile "
+        + ", ".join(f"`{p}`" for p in profiles) + ").",
+        "Each table shows the paper's own columns: ours with its 95% interval in brackets, the paper's number",
+        "beside it where the paper prints one. Each table's heading links its own page, with the notes (set-up,",
+        "differences from the paper) and every diagnostic column. Our data and sizes differ from the papers';",
+        "the notes say how. Each paper's claims, checked on our numbers, close its section.",
+        "",
+    ]
+    for track, reports in tracks.items():
+        paper = PAPERS.get(track)
+        parts += [f"## {paper.name if paper else OTHER}", ""]
+        if paper:
+            parts += [f"[*{paper.title}*]({paper.link})", ""]
+        parts += [f"![{caption}]({FIGURES_DIR}/{name})\n\n*{caption}*\n" for name, caption in figures.get(track, [])]
+        claims: list[tuple[str, Claim]] = []
+        for table_id, report in reports:
+            parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
+            claims += [(f"[{table_id}]({track}/{table_id}.md)", c) for c in claims_of(report)]
+        if paper:
+            parts += [f"### {paper.name} claims", ""]
+            parts += _claims_table(claims) if claims else ["No claim of this paper is checked yet."]
+            unchecked = [f"`{t}`" for t, report in reports if not claims_of(report)]
+            if unchecked:
+                parts += ["", "Tables without a checked claim (their notes say what they show): "
+                          + ", ".join(unchecked) + "."]
+            parts.append("")
+    missing = [f"`{paper}/{t}`" for paper, ids in TABLE_IDS.items() for t in ids
+               if t not in {table_id for table_id, _ in tracks.get(paper, [])}]
+    if missing:
+        parts += ["## Not reproduced yet", "", "No report exists yet for: " + ", ".join(missing) + ".", ""]
+    return "\n".join(parts)
+
+
+def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
+                   figures: dict[str, list[tuple[str, str]]], page: str) -> str:
+    """The front door's results: per paper its figure, a few headline numbers (ours with intervals beside
+    the paper's) and the count of claim verdicts, linking ``page`` (the results page, relative)."""
+    base = page.removesuffix(INDEX)
+    parts = [BEGIN, ""]
+    for track, paper in PAPERS.items():
+        reports = dict(tracks.get(track, []))
+        if not reports:
+            continue
+        parts += [f"### {paper.name}", ""]
+        if figures.get(track):
+            name, caption = figures[track][0]
+            parts += [f"![{caption}]({base}{FIGURES_DIR}/{name})", ""]
+        parts += ["| table | row | column | ours [95% interval] | paper |", "|---|---|---|---|---|"]
+        for table_id, key, cols in HEADLINE[track]:
+            report = reports[table_id]
+            keys = key_columns(report)
+            mine = next(r for r in report["rows"] if tuple(r.get(k) for k in keys) == key)
+            theirs = next((r for r in report["paper"] if tuple(r.get(k) for k in keys) == key), {})
+            for c in cols:
+                parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
+                             f"{_cell(mine, c)} | {_num(theirs[c]) if theirs.get(c) is not None else ''} |")
+        verdicts = [c.verdict for report in reports.values() for c in claims_of(report)]
+        counts = ", ".join(f"{verdicts.count(v)} {plural}" for v, plural in
+                           (("holds", "hold"), ("does not hold", "do not hold"), ("inconclusive", "inconclusive")))
+        link = f"{page}#{_anchor(paper.name + ' claims')}"
+        parts += ["", f"Claims checked: {counts} ([each with its numbers and reason]({link})).", ""]
+    parts.append(END)
+    return "\n".join(parts)
+
+
+def write_index(reports_dir: str | Path, readme: str | Path | None = None) -> Path:
+    """Write ``reports/README.md`` and the figure copies; with ``readme``, also rewrite its results block
+    (between ``BEGIN`` and ``END``: the front door's numbers, which no one types by hand)."""
+    reports_dir = Path(reports_dir)
+    if not reports_dir.is_dir():
+        raise DataError(f"{reports_dir}/ does not exist: no reports to index (--reports-dir names the folder "
+                        "the notebooks wrote)")
+    copy_figures(reports_dir)
+    tracks, figures = read_tracks(reports_dir), shown_figures(reports_dir)
+    out = reports_dir / INDEX
+    write_text(out, render_page(tracks, figures) + "\n")
+    if readme is not None:
+        readme = Path(readme)
+        text = readme.read_text(encoding="utf8")
+        if BEGIN not in text or END not in text:
+            raise DataError(f"{readme} has no results block: add the lines\n{BEGIN}\n{END}\nwhere it goes")
+        page = os.path.relpath(out, readme.parent).replace(os.sep, "/")
+        head, rest = text.split(BEGIN, 1)
+        write_text(readme, head + headline_block(tracks, figures, page) + rest.split(END, 1)[1])
+    return out
