@@ -19,8 +19,10 @@ import signal
 import subprocess
 import time
 import urllib.request
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import nbformat
 import pytest
@@ -29,6 +31,11 @@ import navlab
 from navlab.cli import lab_command
 from navlab.core.params import repo_root
 from navlab.pipeline.notebooks import ENVIRONMENT, PARAMETERS_CELL, RESOLVE_LINES, discover
+from navlab.viz.playground import NOTEBOOKS as PLAYGROUNDS
+from navlab.viz.playground.common import ERROR_MARK
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -170,8 +177,10 @@ _STATE_JS = """() => {
 }"""
 
 
-def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> LabRun:
-    """Open ``notebook`` (path under the server's root) in a fresh page, Run All from the menu, wait, read back."""
+def run_all(browser, url: str, token: str, notebook: str, screenshot: Path,
+            interact: Callable[[Page, LabRun], None] | None = None) -> LabRun:
+    """Open ``notebook`` (path under the server's root) in a fresh page, Run All from the menu, wait, read back;
+    then ``interact(page, run)`` (a playground's clicks) before the page closes."""
     page = browser.new_page(viewport={"width": 1400, "height": 1100})
     clock = [time.monotonic()]
 
@@ -196,7 +205,7 @@ def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> L
         for cell in state["cells"]:
             run.errors += [(o["ename"], o["evalue"]) for o in cell["outputs"] if o["type"] == "error"]
             run.images += sum(o["image"] for o in cell["outputs"])
-        images = page.locator(".jp-OutputArea-output img")
+        images = page.locator(".jp-OutputArea-output img:not(.widget-image)")  # figures; not a widget's images
         for i in range(images.count()):  # scrolled into view, as a reader sees each figure
             images.nth(i).scroll_into_view_if_needed()
             run.images_rendered += images.nth(i).evaluate("img => img.decode().then(() => img.naturalWidth > 0, "
@@ -207,6 +216,8 @@ def run_all(browser, url: str, token: str, notebook: str, screenshot: Path) -> L
         elif images.count():
             images.last.scroll_into_view_if_needed()
         run.screenshot = _screenshot(page, screenshot)
+        if interact is not None:
+            interact(page, run)
         return run
     except Exception:
         _screenshot(page, screenshot)  # what the page showed when it hung or broke
@@ -258,6 +269,73 @@ def test_run_all_in_jupyterlab(notebook, browser, lab):
     assert sorted(notebook.parent.iterdir()) == folder, f"the browser run wrote into {notebook.parent}"
     for table in reports.rglob("*.json"):  # the kernel ran the smoke profile it was given
         assert json.loads(table.read_text())["profile"] == "smoke", f"{table} not written with the smoke profile"
+
+
+# A playground's drawn result: a digest of the bytes its <img> shows (a new value is a new blob URL).
+_RESULT_DIGEST_JS = """async () => {
+  const img = document.querySelector('img.navlab-result');
+  if (!img || !img.src) return null;
+  const bytes = new Uint8Array(await (await fetch(img.src)).arrayBuffer());
+  let h = 2166136261;
+  for (const b of bytes) h = Math.imul(h ^ b, 16777619) >>> 0;
+  return `${bytes.length}:${h}`;
+}"""
+
+
+def click_widget(page: Page, selector: str, nth: int = 0, redraws: bool = True) -> str | None:
+    """A real click on a playground widget; waits for the kernel to answer (the result redrawn when
+    ``redraws``, else the message line rewritten) and to go idle. The drawn result's digest after it."""
+    before = page.evaluate(_RESULT_DIGEST_JS)
+    message = page.locator(".navlab-playground-message").first.inner_text()
+    page.locator(selector).nth(nth).click()
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        digest = page.evaluate(_RESULT_DIGEST_JS)
+        if (digest != before) if redraws else (page.locator(".navlab-playground-message").first.inner_text() != message):
+            break
+        time.sleep(0.2)
+    else:
+        raise AssertionError(f"{selector} #{nth}: nothing redrawn within 120 s; message: "
+                             f"{page.locator('.navlab-playground-message').first.inner_text()}")
+    _wait(page, "s.kernel === 'idle' && !s.busy", 60)
+    return page.evaluate(_RESULT_DIGEST_JS)
+
+
+@pytest.mark.notebook
+def test_pacer_playground_answers_clicks(browser, lab):
+    """The PACER playground as a person uses it: Run All, make the context uninformative, click two terrain
+    thumbnails (a pair "A over B"), invert it. Each click redraws a different result; no error output, no
+    refusal in the message line. Screenshots after Run All, after the pair and after the inversion."""
+    url, token, _ = lab
+    notebook = PLAYGROUNDS / "pacer.ipynb"
+    rel = notebook.relative_to("notebooks").as_posix()
+    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    seen: list[str] = []
+
+    def interact(page: Page, run: LabRun) -> None:
+        check_clean(run)
+        page.wait_for_function("() => { const i = document.querySelector('img.navlab-result');"
+                               " return i && i.naturalWidth > 0; }", timeout=60_000)
+        seen.append(page.evaluate(_RESULT_DIGEST_JS))
+        seen.append(click_widget(page, ".navlab-clear"))
+        click_widget(page, ".navlab-terrain", 0, redraws=False)
+        assert "click the other terrain" in page.locator(".navlab-playground-message").first.inner_text()
+        seen.append(click_widget(page, ".navlab-terrain", 1))
+        assert page.locator(".navlab-remove").count() == 1, "the pair was not added"
+        _screenshot(page, shots.with_name(shots.name + "__pair.png"))
+        seen.append(click_widget(page, ".navlab-invert"))
+        message = page.locator(".navlab-playground-message").first.inner_text()
+        assert ERROR_MARK not in message, f"the playground refused a click: {message}"
+        state = page.evaluate(_STATE_JS)
+        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
+        assert not errors, f"error output after the clicks: {errors}"
+        page.locator("img.navlab-result").scroll_into_view_if_needed()
+        _screenshot(page, shots.with_name(shots.name + "__inverted.png"))
+
+    run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
+    print(f"{notebook}: {run.seconds}; result digests {seen}")
+    assert len(seen) == 4 and None not in seen
+    assert len(set(seen)) == 4, f"a click left the drawn result unchanged: {seen}"
 
 
 def test_a_failing_cell_fails_the_check(browser, tmp_path):
