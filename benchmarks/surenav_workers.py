@@ -26,7 +26,7 @@ from navlab.surenav.episodes import safety_efficiency_environments
 
 def _default_threads_episode(task):
     env, method, learned, settings, graph = task
-    return run_episode(env, method, make_policy(method, env, learned, settings), settings, graph,
+    return run_episode(env, method, lambda w: make_policy(method, env, learned, settings, w.scale), settings, graph,
                        risk_table(settings.unit_risk))
 
 

@@ -1,8 +1,9 @@
 """Run every method of the SuReNav benchmark on every environment and summarise (Table I, Fig. 4).
 
 Each environment plays inside its window (``episodes.window``: the start-goal box grown by the
-executor's margin, as the expert planned); the walker of ``sim.semi_static`` believes the prior map
-and navigates in the true one. Per episode we keep the outcome (status, SR, SPL, total risk, the
+executor's margin, as the expert planned), doubled while the method finds no plan inside it
+(``windows.walk``, the same rule for every method); the walker of ``sim.semi_static`` believes the
+prior map and navigates in the true one. Per episode we keep the outcome (status, SR, SPL, total risk, the
 human-likeness metrics where a demonstration exists, per-re-plan times); the summaries give every
 mean its 95% bootstrap interval over environments and every success rate its Wilson interval.
 """
@@ -25,23 +26,17 @@ from navlab.core.seeding import rng
 from navlab.graphs.incremental import resegment
 from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
-from navlab.metrics.navigation import (
-    path_length,
-    risk_table,
-    shortest_feasible_length,
-    spl,
-    success,
-    total_risk,
-)
+from navlab.metrics.navigation import path_length, risk_table, spl, success, total_risk
 from navlab.metrics.relaxation import relaxed_regions, set_iou
-from navlab.sim.semi_static import Policy, execute
+from navlab.sim.semi_static import Policy
 from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, ExpertPolicy, RCRPolicy
 from navlab.surenav.baselines.rcr import risk_table as rcr_risk_table
 from navlab.surenav.demo_priors import class_order, dstar_label_costs, load_training_traversal
-from navlab.surenav.episodes import Environment, window
+from navlab.surenav.episodes import Environment
 from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.experts.store import load_demos
 from navlab.surenav.policy import SuReNavPolicy, learned_policy, scored_cost
+from navlab.surenav.windows import PlanningWindow, WindowedPolicy, shortest_in_windows, walk
 
 BASELINES = ("D* Lite", "COA*", "RCR")
 EXPERT = "Expert (reference)"
@@ -98,8 +93,9 @@ class Learned:
 _FACTORIES: dict = {}  # (artifacts_dir, variant, seed) -> policy factory: each estimator loads once per process
 
 
-def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Policy:
-    """A fresh SuReNav policy for a run of ``surenav_runs``."""
+def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams, scale: int = 1) -> Policy:
+    """A fresh SuReNav policy for a run of ``surenav_runs``, its node window ``scale`` times the configured
+    margin (``windows.PlanningWindow.scale``)."""
     if learned.artifacts_dir is None or learned.surenav is None:
         raise ValueError(f"{run!r} needs the trained estimators: build Learned.from_training(..., artifacts_dir=, "
                          "surenav=params.surenav)")
@@ -107,8 +103,9 @@ def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams) -> Pol
     method = method_of(run)
     if method == SURENAV_RCR:
         score = RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight).score
-        return SuReNavPolicy(scored_cost(score, s.planner.rcr_scale_m), s.planner.mode, s.model.window_margin_m)
-    return _surenav_factory(learned, method, seed_of(run))()
+        return SuReNavPolicy(scored_cost(score, s.planner.rcr_scale_m), s.planner.mode,
+                             s.model.window_margin_m * scale)
+    return _surenav_factory(learned, method, seed_of(run))(scale)
 
 
 def _surenav_factory(learned: Learned, method: str, seed: int):
@@ -133,9 +130,10 @@ def benchmark_runs(learned: Learned) -> tuple[list[str], list[str]]:
     return runs, [*BASELINES, SURENAV, SURENAV_RCR, SURENAV_MPNN, EXPERT]
 
 
-def make_policy(method: str, env: Environment, learned: Learned, settings: BenchmarkParams) -> Policy:
+def make_policy(method: str, env: Environment, learned: Learned, settings: BenchmarkParams, scale: int = 1) -> Policy:
     """A fresh policy for one episode; ``method`` is a baseline, the expert or a SuReNav run
-    (``surenav_runs``)."""
+    (``surenav_runs``). ``scale``: the planning window's widening (``windows.PlanningWindow.scale``), applied
+    to a method's own query window (the Expert's search box, SuReNav's node window)."""
     res = env.prior.frame.resolution
     if method == "D* Lite":
         return DStarLitePolicy(learned.dstar_costs)
@@ -144,9 +142,9 @@ def make_policy(method: str, env: Environment, learned: Learned, settings: Bench
     if method == "RCR":
         return RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight)
     if method == EXPERT:
-        return ExpertPolicy(PERSONAS[env.persona], int(np.ceil(settings.executor.window_margin_m / res)))
+        return ExpertPolicy(PERSONAS[env.persona], int(np.ceil(settings.executor.window_margin_m * scale / res)))
     if method_of(method) in (*VARIANT, SURENAV_RCR) and (method == SURENAV_RCR or _SEED in method):
-        return surenav_policy(method, learned, settings)
+        return surenav_policy(method, learned, settings, scale)
     raise ValueError(f"unknown method {method!r}; methods are {', '.join((*BASELINES, EXPERT))} and the SuReNav "
                      f"runs {seed_run(SURENAV, 0)!r}, {SURENAV_RCR!r}, {seed_run(SURENAV_MPNN, 0)!r}")
 
@@ -166,6 +164,7 @@ class Outcome:
     relaxation_iou: float | None
     replan_seconds: tuple[float, ...]
     trajectory: np.ndarray  # (K, 2) world metres
+    window_scale: int = 1  # the last planning window's margin / the configured one (``windows.walk``)
 
 
 def reference_superpixels(env: Environment, graph: GraphParams, stored: np.ndarray) -> np.ndarray:
@@ -179,35 +178,35 @@ def reference_superpixels(env: Environment, graph: GraphParams, stored: np.ndarr
     return resegment(stored, env.truth, changed, graph.compactness)
 
 
-def run_episode(env: Environment, method: str, policy: Policy, settings: BenchmarkParams, graph: GraphParams,
+def run_episode(env: Environment, method: str, make: WindowedPolicy, settings: BenchmarkParams, graph: GraphParams,
                 risk: np.ndarray, superpixels: np.ndarray | None = None) -> Outcome:
-    """One method on one environment; ``superpixels``: the demonstration's partition (human-likeness)."""
+    """One method on one environment (``make``: a fresh policy of the method per planning window, see
+    ``windows.walk``); ``superpixels``: the demonstration's partition (human-likeness)."""
     res = env.prior.frame.resolution
-    box = window(env.truth.shape, env.start, env.goal, int(np.ceil(settings.executor.window_margin_m / res)))
-    off = np.array([box[0].start, box[1].start])
-    prior, truth = env.prior.crop(*box), env.truth[box]
-    start, goal = env.start - off, env.goal - off
-    ex = execute(prior, truth, start, goal, policy, settings.executor, graph, full_cells=env.prior.labels.size)
-    ok = ex.reached and success(ex.trajectory, truth, goal)
+    ex = walk(env, make, settings.executor, graph)
+    ok = ex.reached and success(ex.trajectory, env.truth, env.goal)
     length = path_length(ex.trajectory, res)
-    shortest = shortest_feasible_length(truth, start, goal, res)
-    xy = prior.frame.cell_to_world(ex.trajectory)
+    shortest = shortest_in_windows(env.truth, env.start, env.goal,
+                                   int(np.ceil(settings.executor.window_margin_m / res)), res)
+    xy = env.prior.frame.cell_to_world(ex.trajectory)
     frechet = iou = None
     if env.demonstration is not None:
         demo = env.demonstration
         frechet = normalised_frechet(xy, demo.path, demo.start, demo.goal)
         if superpixels is not None:
-            mine = relaxed_regions(ex.trajectory + off, env.truth, superpixels)
+            mine = relaxed_regions(ex.trajectory, env.truth, superpixels)
             iou = set_iou(mine, demo.relaxed_superpixels)
     return Outcome(method, env.name, env.group, ex.status, ok, length, shortest, spl(ok, length, shortest),
-                   total_risk(ex.trajectory, truth, risk, res), frechet, iou,
-                   tuple(r.seconds for r in ex.replans), xy)
+                   total_risk(ex.trajectory, env.truth, risk, res), frechet, iou,
+                   tuple(r.seconds for r in ex.replans), xy, ex.window.scale)
 
 
 def _run_one(task) -> Outcome:
     env, method, learned, settings, graph, superpixels = task
-    policy = make_policy(method, env, learned, settings)
-    return run_episode(env, method, policy, settings, graph, risk_table(settings.unit_risk), superpixels)
+
+    def make(w: PlanningWindow) -> Policy:
+        return make_policy(method, env, learned, settings, w.scale)
+    return run_episode(env, method, make, settings, graph, risk_table(settings.unit_risk), superpixels)
 
 
 def _one_thread() -> None:

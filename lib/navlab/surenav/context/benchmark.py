@@ -70,10 +70,11 @@ from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
 from navlab.surenav.context.training import FOLDERS, context_cost, context_model_path, feature_runs
 from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.demo_priors import class_order, dstar_label_costs, label_traversal
-from navlab.surenav.episodes import Environment, window
+from navlab.surenav.episodes import Environment
 from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.tables import Table
 from navlab.surenav.train import read_log
+from navlab.surenav.windows import PlanningWindow, prior_hard
 
 SURENAV = "SuReNav"
 ABLATION = "SuReNav, {} input (ablation)"
@@ -115,42 +116,42 @@ def oracle_cost(relaxed: np.ndarray, other_m: float = ORACLE_OTHER_M) -> Callabl
     return cost
 
 
-def relaxed_window(env: Environment, margin_m: float) -> np.ndarray:
-    """The demonstration's relaxed cells as a bool raster of the episode window (``run_episode``'s box)."""
-    res = env.prior.frame.resolution
+def relaxed_window(env: Environment, w: PlanningWindow) -> np.ndarray:
+    """The demonstration's relaxed cells as a bool raster of a planning window (``windows.walk``'s box)."""
     mask = np.zeros(env.truth.shape, dtype=bool)
     mask.ravel()[env.demonstration.relaxed_cells] = True
-    return mask[window(env.truth.shape, env.start, env.goal, int(np.ceil(margin_m / res)))]
+    return mask[w.box]
 
 
-def methods(params: Params, artifacts_dir: str | Path) -> tuple[dict[str, Callable[[Environment], Policy]], list[str]]:
-    """(run name -> policy factory per environment, methods in report order). Loads every estimator and
-    the training priors once."""
+def methods(params: Params, artifacts_dir: str | Path
+            ) -> tuple[dict[str, Callable[[Environment, PlanningWindow], Policy]], list[str]]:
+    """(run name -> policy factory per environment and planning window, methods in report order). Loads
+    every estimator and the training priors once. A widened window (``windows.walk``) scales each
+    method's own query window by its ``scale``."""
     s = params.surenav
     ctx, settings, mode, margin = s.demos.context, s.benchmark, s.planner.mode, s.model.window_margin_m
     train = load_context_demos(artifacts_dir, "train")
     traversal = label_traversal([md for _, md in train], [smap for smap, _ in train])
     field = per_label_fields({})[FIELD_NAME]
-    runs: dict[str, Callable[[Environment], Policy]] = {}
+    runs: dict[str, Callable[[Environment, PlanningWindow], Policy]] = {}
     main = ctx.node_features
     ablation = ABLATION.format(next(f for f in FOLDERS if f != main))
     for features, seeds in feature_runs(main, s.train).items():
         name = SURENAV if features == main else ablation
         for seed in seeds:
             make = context_cost(artifacts_dir, features, seed)
-            runs[seed_run(name, seed)] = lambda env, make=make: SuReNavPolicy(make(), mode, margin)
-    runs[LABEL_PSI] = lambda env: SuReNavPolicy(label_table_cost(field), mode, margin)
-    runs[ORACLE_PSI] = lambda env: SuReNavPolicy(
-        oracle_cost(relaxed_window(env, settings.executor.window_margin_m)), mode, margin)
-    runs[RULE_PSI] = lambda env: SuReNavPolicy(RuleCost(mean_persona()), mode, margin)
-    runs[FIELD] = lambda env: CostFieldPolicy(field)
+            runs[seed_run(name, seed)] = lambda env, w, make=make: SuReNavPolicy(make(), mode, margin * w.scale)
+    runs[LABEL_PSI] = lambda env, w: SuReNavPolicy(label_table_cost(field), mode, margin * w.scale)
+    runs[ORACLE_PSI] = lambda env, w: SuReNavPolicy(oracle_cost(relaxed_window(env, w)), mode, margin * w.scale)
+    runs[RULE_PSI] = lambda env, w: SuReNavPolicy(RuleCost(mean_persona(), prior_hard(env, w)), mode, margin * w.scale)
+    runs[FIELD] = lambda env, w: CostFieldPolicy(field)
     for name, costs in dstar_readings(traversal).items():
-        runs[name] = lambda env, costs=costs: DStarLitePolicy(costs)
+        runs[name] = lambda env, w, costs=costs: DStarLitePolicy(costs)
     order = class_order(traversal)
-    runs["COA*"] = lambda env: ClassOrderedPolicy(order)
+    runs["COA*"] = lambda env, w: ClassOrderedPolicy(order)
     rcr = rcr_risk_table(settings.rcr.label_risk)
-    runs["RCR"] = lambda env: RCRPolicy(rcr, settings.rcr.goal_weight)
-    runs[EXPERT] = lambda env: ContextWalker(CONTEXT_PERSONAS[env.persona], margin)
+    runs["RCR"] = lambda env, w: RCRPolicy(rcr, settings.rcr.goal_weight)
+    runs[EXPERT] = lambda env, w: ContextWalker(CONTEXT_PERSONAS[env.persona], margin * w.scale, prior_hard(env, w))
     return runs, list(dict.fromkeys(method_of(r) for r in runs))
 
 
@@ -161,7 +162,7 @@ def _run(task: tuple[int, str]) -> Outcome:
     i, name = task
     env, superpixels = _JOB["envs"][i], _JOB["superpixels"][i]
     s = _JOB["params"].surenav
-    return run_episode(env, name, _JOB["runs"][name](env), s.benchmark, s.graph, risk_table(s.benchmark.unit_risk),
+    return run_episode(env, name, lambda w: _JOB["runs"][name](env, w), s.benchmark, s.graph, risk_table(s.benchmark.unit_risk),
                        superpixels)
 
 

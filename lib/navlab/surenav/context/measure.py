@@ -38,6 +38,7 @@ from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.episodes import Environment
 from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.policy import SuReNavPolicy
+from navlab.surenav.windows import PlanningWindow, prior_hard
 
 EXPERT = "Expert (context demonstrator's planner)"
 RULE_PSI = "SuReNav executor, rule Psi"
@@ -67,11 +68,14 @@ def per_label_fields(maps: dict[str, tuple[np.ndarray, np.ndarray, float]]) -> d
             "the per-label demonstrator's personas' mean costs": np.array([old.get(lab.name, np.inf) for lab in LABELS])}
 
 
-def run_method(envs: list[Environment], stored: dict[str, np.ndarray], policy: Callable[[Environment], Policy],
-               settings: BenchmarkParams, graph: GraphParams) -> list[Outcome]:
-    """One method (a fresh policy per environment) on every environment, through Table I's executor."""
+def run_method(envs: list[Environment], stored: dict[str, np.ndarray],
+               policy: Callable[[Environment, PlanningWindow], Policy], settings: BenchmarkParams,
+               graph: GraphParams) -> list[Outcome]:
+    """One method (a fresh policy per environment and planning window) on every environment, through Table
+    I's executor."""
     risk = risk_table(settings.unit_risk)
-    return [run_episode(env, "", policy(env), settings, graph, risk, reference_superpixels(env, graph, stored[env.group]))
+    return [run_episode(env, "", lambda w, env=env: policy(env, w), settings, graph, risk,
+                        reference_superpixels(env, graph, stored[env.group]))
             for env in envs]
 
 
@@ -97,9 +101,11 @@ def measure(envs: list[Environment], stored: dict[str, np.ndarray], settings: Be
     SuReNav, and the two properties against the best field (highest mean IoU), paired."""
     maps = {env.group: (env.prior.labels, stored[env.group], env.prior.frame.resolution) for env in envs}
     fields = per_label_fields(maps)
-    runs = {EXPERT: lambda env: ContextWalker(CONTEXT_PERSONAS[env.persona], margin_m),
-            RULE_PSI: lambda env: SuReNavPolicy(RuleCost(mean_persona()), planner_mode, margin_m),
-            **{FIELD + name: (lambda env, t=table: CostFieldPolicy(t)) for name, table in fields.items()}}
+    runs = {EXPERT: lambda env, w: ContextWalker(CONTEXT_PERSONAS[env.persona], margin_m * w.scale,
+                                                 prior_hard(env, w)),
+            RULE_PSI: lambda env, w: SuReNavPolicy(RuleCost(mean_persona(), prior_hard(env, w)), planner_mode,
+                                                   margin_m * w.scale),
+            **{FIELD + name: (lambda env, w, t=table: CostFieldPolicy(t)) for name, table in fields.items()}}
     outcomes = {name: run_method(envs, stored, make, settings, graph) for name, make in runs.items()}
     rows = [_row(name, found, settings) for name, found in outcomes.items()]
     best = max((r for r in rows if r["method"].startswith(FIELD)), key=lambda r: r["relaxation_iou"])["method"]
