@@ -14,12 +14,12 @@ from navlab.graphs.region_graph import superpixel_graph
 from navlab.maps.network import WalkableNetwork
 from navlab.maps.semantic_map import SemanticMap
 from navlab.maps.tiles import Tile
-from navlab.surenav.context.benchmark import dstar_readings, label_table_cost, oracle_cost
+from navlab.surenav.context.benchmark import label_table_cost, oracle_cost
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
 from navlab.surenav.context.tiles import split_tiles
 from navlab.surenav.context.training import demo_sample, feature_runs
-from navlab.surenav.demo_priors import LabelTraversal
+from navlab.surenav.demo_priors import DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
 from navlab.surenav.experts.environments import Demonstration
 from navlab.surenav.experts.store import MapDemos
 from synthetic_city import city
@@ -68,13 +68,23 @@ def test_relaxation_mix_counts_demonstrations_per_label_group():
     assert mix["parking"] == 0 and mix["jaywalked"] == pytest.approx(1 / 3, abs=1e-4)
 
 
-def test_dstar_readings_share_the_scaled_value():
+@pytest.mark.parametrize("floor", [0.01, 0.1])
+def test_dstar_readings_share_the_scaled_value(floor):
     traversal = LabelTraversal(np.arange(NUM_LABELS) % 3 + 1, np.full(NUM_LABELS, 4))
-    r = dstar_readings(traversal)
+    r = dstar_readings(traversal, floor)
+    other = 0.1 if floor == 0.01 else 0.01
+    assert set(r) == {"D* Lite", f"D* Lite (floor {other:g})", "D* Lite (1 + scaled)"}  # every reading, once
     finite = np.isfinite(r["D* Lite"])
-    scaled = (r["D* Lite"][finite] - 0.1) / 0.9
-    assert r["D* Lite (floor 0.01)"][finite] == pytest.approx(0.01 + 0.99 * scaled)
+    scaled = (r["D* Lite"][finite] - floor) / (1 - floor)
+    assert scaled.min() == pytest.approx(0.0) and scaled.max() == pytest.approx(1.0)
+    assert r[f"D* Lite (floor {other:g})"][finite] == pytest.approx(other + (1 - other) * scaled)
     assert r["D* Lite (1 + scaled)"][finite] == pytest.approx(1.0 + scaled)
+
+
+def test_the_main_dstar_reading_is_the_papers_0_1_scaling():
+    assert PARAMS.surenav.benchmark.dstar_cost_floor == load_params("default").surenav.benchmark.dstar_cost_floor == 0.01
+    note = dstar_note(0.01)
+    assert DSTAR_SENTENCE in note and "[0.01, 1]" in note and "0-1 scaling" in DSTAR_SENTENCE
 
 
 @pytest.fixture(scope="module")

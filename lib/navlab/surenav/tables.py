@@ -24,6 +24,7 @@ from navlab.surenav.benchmark import (
     replan_note,
     table1_rows,
 )
+from navlab.surenav.demo_priors import dstar_note
 
 _INTERVALS = ("95% intervals: percentile bootstrap over environments for means ({n} resamples), Wilson for "
               "success rates.")
@@ -75,7 +76,7 @@ def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table
         ("Relaxation IoU on superpixels of the demonstration's own region graph (one fixed partition for every "
          "method; cell sets of one-cell-wide paths barely overlap)."),
         f"{EXPERT}: the synthetic expert's planner run through the same executor (a ceiling, not a baseline).",
-        _learned(rows, methods), _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples),
+        dstar_note(settings.dstar_cost_floor), _learned(rows, methods), _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples),
         replan_note(outcomes, methods),
         "Claims: " + " | ".join(c.line() for c in claims),
     ] if part)
@@ -99,7 +100,7 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
          "SR stated in the text. Total risk integrates our fixed per-label unit risks (params.yaml "
          "surenav.benchmark.unit_risk) along the path; the paper's are mean 0-1 scores of three language models."),
         f"{EXPERT}: the synthetic expert's planner through the same executor (a reference, not a baseline).",
-        _learned(rows, methods),
+        dstar_note(settings.dstar_cost_floor), _learned(rows, methods),
         "SR intervals: Wilson for a single run, bootstrap over episodes of the seed-averaged success for a "
         "method run on several training seeds." if SURENAV in methods else "",
         _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),

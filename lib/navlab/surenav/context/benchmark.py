@@ -16,9 +16,10 @@ Rows:
   rules at the personas' mean tolerances, from the believed map);
 - the per-label field with the per-label demonstrator's personas' mean costs (grid A*, the best
   per-label field measured in ``benchmarks/surenav_context.json``);
-- D* Lite under three readings of its cost rule (0-1 scaled reciprocal traversal rate lifted onto
-  [0.1, 1] — the main row, as in Table I —, onto [0.01, 1], and 1 + scaled), COA* and RCR, their
-  priors from the context TRAINING demonstrations only (``demo_priors.label_traversal``);
+- D* Lite under three readings of its cost rule (``demo_priors.dstar_readings``: 0-1 scaled reciprocal
+  traversal rate lifted onto [surenav.benchmark.dstar_cost_floor, 1] — the main row, as in Table I,
+  the reading closest to the paper's text —, onto the other floor, and 1 + scaled), COA* and RCR,
+  their priors from the context TRAINING demonstrations only (``demo_priors.label_traversal``);
 - the Expert (the context demonstrator's own planner, true persona).
 
 Claims (paired over environments, 95% percentile bootstrap): SuReNav's IoU above and Fréchet below
@@ -69,7 +70,7 @@ from navlab.surenav.context.measure import per_label_fields
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
 from navlab.surenav.context.training import FOLDERS, context_cost, context_model_path, feature_runs
 from navlab.surenav.context.walker import ContextWalker, RuleCost
-from navlab.surenav.demo_priors import class_order, dstar_label_costs, label_traversal
+from navlab.surenav.demo_priors import DSTAR, class_order, dstar_note, dstar_readings, label_traversal
 from navlab.surenav.episodes import Environment
 from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.tables import Table
@@ -83,17 +84,13 @@ ORACLE_PSI = "SuReNav with oracle-set Psi"
 RULE_PSI = "SuReNav with rule Psi"
 FIELD_NAME = "the per-label demonstrator's personas' mean costs"
 FIELD = "per-label field (per-label demonstrator's mean costs)"
-DSTAR = {"D* Lite": "floor 0.1", "D* Lite (floor 0.01)": "floor 0.01", "D* Lite (1 + scaled)": "1 + scaled"}
 EXPERT = "Expert (context demonstrator's planner)"
 ORACLE_OTHER_M = 1000.0  # oracle-set Psi on soft regions the demonstration did not enter
-PAIRED_AGAINST = (*DSTAR, LABEL_PSI)
 
 
-def dstar_readings(traversal) -> dict[str, np.ndarray]:
-    """D* Lite's cost per label under each reading of "reciprocal traversal rate with 0-1 scaling": the
-    scaled value s lifted onto [0.1, 1], onto [0.01, 1], and 1 + s (= 2 x the [0.5, 1] lift)."""
-    return {"D* Lite": dstar_label_costs(traversal, 0.1), "D* Lite (floor 0.01)": dstar_label_costs(traversal, 0.01),
-            "D* Lite (1 + scaled)": 2.0 * dstar_label_costs(traversal, 0.5)}
+def paired_against(methods_) -> list[str]:
+    """The rows SuReNav's claims are paired against: every D* Lite reading and the label-table Psi."""
+    return [m for m in methods_ if m.startswith(DSTAR)] + [LABEL_PSI]
 
 
 def label_table_cost(table: np.ndarray) -> Callable:
@@ -145,7 +142,7 @@ def methods(params: Params, artifacts_dir: str | Path
     runs[ORACLE_PSI] = lambda env, w: SuReNavPolicy(oracle_cost(relaxed_window(env, w)), mode, margin * w.scale)
     runs[RULE_PSI] = lambda env, w: SuReNavPolicy(RuleCost(mean_persona(), prior_hard(env, w)), mode, margin * w.scale)
     runs[FIELD] = lambda env, w: CostFieldPolicy(field)
-    for name, costs in dstar_readings(traversal).items():
+    for name, costs in dstar_readings(traversal, settings.dstar_cost_floor).items():
         runs[name] = lambda env, w, costs=costs: DStarLitePolicy(costs)
     order = class_order(traversal)
     runs["COA*"] = lambda env, w: ClassOrderedPolicy(order)
@@ -207,7 +204,7 @@ def claims(outcomes: list[Outcome], seed: int, resamples: int, surenav: str = SU
     """SuReNav's IoU above and Fréchet below every D* Lite reading and the label-table Psi, each paired
     interval excluding zero (the issue's done-when)."""
     out = []
-    for other in PAIRED_AGAINST:
+    for other in paired_against(dict.fromkeys(method_of(o.method) for o in outcomes)):
         for column, word, sign in (("relaxation_iou", "relaxation IoU above", 1), ("frechet", "Fréchet below", -1)):
             p = paired(outcomes, surenav, other, column, seed, resamples)
             holds = bool(p["ci"][0] > 0) if sign > 0 else bool(p["ci"][1] < 0)
@@ -268,9 +265,8 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
          f"(fixed regional costs). {ORACLE_PSI}: 0 on soft regions holding a demonstrated cell, "
          f"{ORACLE_OTHER_M:g} m on other soft ones. {RULE_PSI}: the demonstrator's rules at the personas' mean "
          f"tolerances from the believed map. {FIELD}: grid A* on that per-label cost field."),
-        ("D* Lite: cost = 0-1 scaled reciprocal traversal rate of the context training demonstrations; main row "
-         "lifted onto [0.1, 1] (Table I's reading, surenav.benchmark.dstar_cost_floor), with [0.01, 1] and 1 + scaled "
-         "beside it. COA*'s class order from the same traversal rates."),
+        dstar_note(settings.dstar_cost_floor) + " The traversal rates here are the context training "
+        "demonstrations'; COA*'s class order comes from the same rates.",
         "Paired 95% intervals (percentile bootstrap over environments): " + "; ".join(deltas) + ".",
         f"95% intervals: percentile bootstrap over environments ({settings.bootstrap_samples} resamples).",
         "Claims: " + " | ".join(c.line() for c in found),
