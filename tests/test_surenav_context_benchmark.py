@@ -153,3 +153,34 @@ def test_demo_sample_targets_the_soft_nodes_the_demonstration_entered(town):
 def test_feature_runs_train_the_main_input_on_every_seed_and_the_other_on_the_ablation_seeds():
     runs = feature_runs("context", load_params("default").surenav.train)
     assert runs == {"context": (0, 1, 2), "labels": (0,)}
+
+
+def _split(split: str, name: str) -> tuple[SemanticMap, MapDemos]:
+    lab = np.full((4, 4), SIDEWALK, dtype=np.uint8)
+    smap = SemanticMap(name, lab, RasterFrame((4, 4), 1.0))
+    return smap, MapDemos(name, split, np.zeros((4, 4), np.int32), [], [_demo([0]), _demo([5])])
+
+
+def test_the_best_per_label_field_is_chosen_on_validation_demonstrations_only(monkeypatch):
+    from types import SimpleNamespace
+
+    from navlab.surenav.context import measure
+
+    fields = {"a": np.full(NUM_LABELS, 1.0), "b": np.full(NUM_LABELS, 2.0), "c": np.full(NUM_LABELS, 3.0)}
+    seen = {}
+    monkeypatch.setattr(measure, "per_label_fields", lambda maps: seen.setdefault("fields_from", sorted(maps)) and fields)
+
+    def run_method(envs, stored, policy, settings, graph):  # the IoU each field scores on the envs it is given
+        seen.setdefault("envs", set()).update(e.group for e in envs)
+        cost = float(policy(envs[0], None).label_costs[0])
+        return [SimpleNamespace(relaxation_iou={1.0: 0.2, 2.0: 0.6, 3.0: 0.4}[cost]) for _ in envs]
+
+    monkeypatch.setattr(measure, "run_method", run_method)
+    train, val, test = _split("train", "t1"), _split("val", "v1"), _split("test", "x1")
+    choice = measure.select_field([train], [val], PARAMS.surenav.benchmark, PARAMS.surenav.graph)
+    assert choice.name == "b" and choice.val_iou == {"a": 0.2, "b": 0.6, "c": 0.4}
+    assert np.array_equal(choice.table, fields["b"]) and "validation" in choice.note()
+    assert seen["fields_from"] == ["t1"] and seen["envs"] == {"v1"}  # fields from train tiles, chosen on val
+    for args in (([train], [test]), ([test], [val]), ([train], [])):
+        with pytest.raises(ValueError, match="never chosen on the test set"):
+            measure.select_field(*args, PARAMS.surenav.benchmark, PARAMS.surenav.graph)

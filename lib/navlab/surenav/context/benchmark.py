@@ -14,8 +14,8 @@ Rows:
   paper's claim is about), the *oracle-set* Psi (0 on soft regions holding a cell the demonstration
   entered, 1000 m on other soft ones: the executor's ceiling) and the *rule* Psi (the demonstrator's
   rules at the personas' mean tolerances, from the believed map);
-- the per-label field with the per-label demonstrator's personas' mean costs (grid A*, the best
-  per-label field measured in ``benchmarks/surenav_context.json``);
+- the best per-label field (grid A*), chosen among the non-learned fields on the VALIDATION
+  demonstrations (``measure.select_field``), never on the test environments;
 - D* Lite under three readings of its cost rule (``demo_priors.dstar_readings``: 0-1 scaled reciprocal
   traversal rate lifted onto [surenav.benchmark.dstar_cost_floor, 1] — the main row, as in Table I,
   the reading closest to the paper's text —, onto the other floor, and 1 + scaled), COA* and RCR,
@@ -66,7 +66,7 @@ from navlab.surenav.benchmark import (
     table1_rows,
 )
 from navlab.surenav.context.dataset import load_context_demos, load_index, stored_environments
-from navlab.surenav.context.measure import per_label_fields
+from navlab.surenav.context.measure import FieldChoice, select_field
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
 from navlab.surenav.context.training import FOLDERS, context_cost, context_model_path, feature_runs
 from navlab.surenav.context.walker import ContextWalker, RuleCost
@@ -82,8 +82,8 @@ ABLATION = "SuReNav, {} input (ablation)"
 LABEL_PSI = "SuReNav with label-table Psi"
 ORACLE_PSI = "SuReNav with oracle-set Psi"
 RULE_PSI = "SuReNav with rule Psi"
-FIELD_NAME = "the per-label demonstrator's personas' mean costs"
-FIELD = "per-label field (per-label demonstrator's mean costs)"
+FIELD = "best per-label field (chosen on validation demos)"
+LABEL_TABLE_FIELD = "the per-label demonstrator's personas' mean costs"  # the label-table Psi's costs (by definition)
 EXPERT = "Expert (context demonstrator's planner)"
 ORACLE_OTHER_M = 1000.0  # oracle-set Psi on soft regions the demonstration did not enter
 
@@ -120,16 +120,23 @@ def relaxed_window(env: Environment, w: PlanningWindow) -> np.ndarray:
     return mask[w.box]
 
 
-def methods(params: Params, artifacts_dir: str | Path
+def best_field(params: Params, artifacts_dir: str | Path) -> FieldChoice:
+    """The best per-label field, chosen on the context validation demonstrations (``measure.select_field``)."""
+    s = params.surenav
+    return select_field(load_context_demos(artifacts_dir, "train"), load_context_demos(artifacts_dir, "val"),
+                        s.benchmark, s.graph)
+
+
+def methods(params: Params, artifacts_dir: str | Path, field: FieldChoice
             ) -> tuple[dict[str, Callable[[Environment, PlanningWindow], Policy]], list[str]]:
     """(run name -> policy factory per environment and planning window, methods in report order). Loads
-    every estimator and the training priors once. A widened window (``windows.walk``) scales each
-    method's own query window by its ``scale``."""
+    every estimator and the training priors once; ``field``: the best per-label field (``best_field``).
+    A widened window (``windows.walk``) scales each method's own query window by its ``scale``."""
     s = params.surenav
     ctx, settings, mode, margin = s.demos.context, s.benchmark, s.planner.mode, s.model.window_margin_m
     train = load_context_demos(artifacts_dir, "train")
     traversal = label_traversal([md for _, md in train], [smap for smap, _ in train])
-    field = per_label_fields({})[FIELD_NAME]
+    label_field = field.costs[LABEL_TABLE_FIELD]
     runs: dict[str, Callable[[Environment, PlanningWindow], Policy]] = {}
     main = ctx.node_features
     ablation = ABLATION.format(next(f for f in FOLDERS if f != main))
@@ -138,10 +145,10 @@ def methods(params: Params, artifacts_dir: str | Path
         for seed in seeds:
             make = context_cost(artifacts_dir, features, seed)
             runs[seed_run(name, seed)] = lambda env, w, make=make: SuReNavPolicy(make(), mode, margin * w.scale)
-    runs[LABEL_PSI] = lambda env, w: SuReNavPolicy(label_table_cost(field), mode, margin * w.scale)
+    runs[LABEL_PSI] = lambda env, w: SuReNavPolicy(label_table_cost(label_field), mode, margin * w.scale)
     runs[ORACLE_PSI] = lambda env, w: SuReNavPolicy(oracle_cost(relaxed_window(env, w)), mode, margin * w.scale)
     runs[RULE_PSI] = lambda env, w: SuReNavPolicy(RuleCost(mean_persona(), prior_hard(env, w)), mode, margin * w.scale)
-    runs[FIELD] = lambda env, w: CostFieldPolicy(field)
+    runs[FIELD] = lambda env, w: CostFieldPolicy(field.table)
     for name, costs in dstar_readings(traversal, settings.dstar_cost_floor).items():
         runs[name] = lambda env, w, costs=costs: DStarLitePolicy(costs)
     order = class_order(traversal)
@@ -234,8 +241,10 @@ def training_note(artifacts_dir: str | Path, params: Params) -> str:
         "; ".join(parts) + "."
 
 
-def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: dict, trained: str = "") -> Table:
-    """The report table: rows (``benchmark.table1_rows``), notes with the mix and paired deltas, claims."""
+def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: dict, trained: str = "",
+          field: FieldChoice | None = None) -> Table:
+    """The report table: rows (``benchmark.table1_rows``), notes with the mix, the field chosen, paired
+    deltas and claims."""
     s = params.surenav
     settings = s.benchmark
     rows = table1_rows(outcomes, methods_, settings)
@@ -265,6 +274,7 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
          f"(fixed regional costs). {ORACLE_PSI}: 0 on soft regions holding a demonstrated cell, "
          f"{ORACLE_OTHER_M:g} m on other soft ones. {RULE_PSI}: the demonstrator's rules at the personas' mean "
          f"tolerances from the believed map. {FIELD}: grid A* on that per-label cost field."),
+        field.note() if field is not None else "",
         dstar_note(settings.dstar_cost_floor) + " The traversal rates here are the context training "
         "demonstrations'; COA*'s class order comes from the same rates.",
         "Paired 95% intervals (percentile bootstrap over environments): " + "; ".join(deltas) + ".",
@@ -278,8 +288,9 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
 def context_table1(params: Params, artifacts_dir: str | Path, progress: bool = True) -> tuple[Table, dict]:
     """Run every method on the context test environments; (the table, the relaxation mix per split)."""
     envs, stored = stored_environments(artifacts_dir)
-    runs, methods_ = methods(params, artifacts_dir)
+    field = best_field(params, artifacts_dir)
+    runs, methods_ = methods(params, artifacts_dir, field)
     outcomes = run_all(envs, stored, runs, params, progress)
     index = load_index(artifacts_dir)
-    return table(outcomes, methods_, params, index, training_note(artifacts_dir, params)), index["mix"]
+    return table(outcomes, methods_, params, index, training_note(artifacts_dir, params), field), index["mix"]
 

@@ -11,13 +11,17 @@ episode window, relaxation IoU on the demonstration's superpixels) on the contex
 
 Differences are paired over environments with a 95% percentile bootstrap. The per-label fields are
 non-learned: the rules' per-metre surface costs; the rules' Psi of each label averaged over the
-personas and every region of that label on the test maps, spread over the region's diameter; and the
-per-label demonstrator's personas' mean costs (issue 25's 0.541 field).
+personas and every region of that label on the TRAINING tiles, spread over the region's diameter; and
+the per-label demonstrator's personas' mean costs (issue 25's 0.541 field). The best of them is chosen
+on validation demonstrations (``select_field``), never on the test environments the properties are
+measured on: choosing on the test set would pick the field that happens to fit it, and overstate the
+field (understating both properties).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,17 +30,20 @@ from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_demos import ContextDemosParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.seeding import rng
+from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.metrics.navigation import risk_table
 from navlab.sim.semi_static import Policy
 from navlab.surenav.baselines.cost_field import CostFieldPolicy
 from navlab.surenav.benchmark import Outcome, reference_superpixels, run_episode
+from navlab.surenav.context.dataset import demo_environments
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
 from navlab.surenav.context.regions import region_context
 from navlab.surenav.context.rules import SURFACE_TABLE, relaxation_costs
 from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.episodes import Environment
 from navlab.surenav.experts.personas import PERSONAS
+from navlab.surenav.experts.store import MapDemos
 from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.windows import PlanningWindow, prior_hard
 
@@ -47,7 +54,7 @@ FIELD = "per-label field: "
 
 def per_label_fields(maps: dict[str, tuple[np.ndarray, np.ndarray, float]]) -> dict[str, np.ndarray]:
     """Per-label cost per metre of each non-learned field; ``maps``: name -> (labels, superpixels,
-    resolution) of the test maps (for the rules' mean Psi per label)."""
+    resolution) of the training maps (for the rules' mean Psi per label)."""
     spread = np.zeros(len(LABELS))
     count = np.zeros(len(LABELS))
     for labels, superpixels, res in maps.values():
@@ -66,6 +73,40 @@ def per_label_fields(maps: dict[str, tuple[np.ndarray, np.ndarray, float]]) -> d
            "parking": mean["parking_cost"], "grass": mean["grass_edge_cost"], "rough_terrain": mean["rough_cost"]}
     return {"the rules' surface costs": SURFACE_TABLE, "the rules' mean Psi per metre": rules_mean,
             "the per-label demonstrator's personas' mean costs": np.array([old.get(lab.name, np.inf) for lab in LABELS])}
+
+
+@dataclass(frozen=True)
+class FieldChoice:
+    name: str  # the chosen field (a key of ``costs``)
+    costs: dict[str, np.ndarray]  # every candidate field: cost per metre per label id
+    val_iou: dict[str, float]  # each candidate's mean relaxation IoU on the validation demonstrations
+
+    @property
+    def table(self) -> np.ndarray:
+        return self.costs[self.name]
+
+    def note(self) -> str:
+        scores = "; ".join(f"{name} {iou:.3f}" for name, iou in self.val_iou.items())
+        return (f"Best per-label field: {self.name}, the highest mean relaxation IoU on the validation "
+                f"demonstrations (never the test ones) among the non-learned fields ({scores}).")
+
+
+def select_field(train: list[tuple[SemanticMap, MapDemos]], val: list[tuple[SemanticMap, MapDemos]],
+                 settings: BenchmarkParams, graph: GraphParams) -> FieldChoice:
+    """The best per-label field: candidates from the training tiles (``per_label_fields``), each run through
+    Table I's executor on the validation demonstrations, the highest mean IoU chosen (ties: the first)."""
+    for split, pairs in (("train", train), ("val", val)):
+        wrong = sorted({md.split for _, md in pairs} - {split})
+        if wrong or not pairs:
+            raise ValueError(f"select_field: the {split} argument must hold {split} demonstrations only, got splits "
+                             f"{wrong or 'none'}; the best field is never chosen on the test set")
+    fields = per_label_fields({smap.name: (smap.labels, md.superpixels, smap.frame.resolution) for smap, md in train})
+    envs, stored = demo_environments(val)
+    scores = {}
+    for name, table in fields.items():
+        found = run_method(envs, stored, lambda env, w, t=table: CostFieldPolicy(t), settings, graph)
+        scores[name] = round(float(np.mean([o.relaxation_iou for o in found])), 4)
+    return FieldChoice(max(scores, key=scores.get), fields, scores)
 
 
 def run_method(envs: list[Environment], stored: dict[str, np.ndarray],
@@ -95,12 +136,11 @@ def _paired(a: list[Outcome], b: list[Outcome], threshold: float, settings: Benc
             "holds": bool(diff.mean() >= threshold)}
 
 
-def measure(envs: list[Environment], stored: dict[str, np.ndarray], settings: BenchmarkParams, graph: GraphParams,
-            context: ContextDemosParams, planner_mode: str, margin_m: float) -> dict:
+def measure(envs: list[Environment], stored: dict[str, np.ndarray], field: FieldChoice, settings: BenchmarkParams,
+            graph: GraphParams, context: ContextDemosParams, planner_mode: str, margin_m: float) -> dict:
     """Rows (Fréchet, IoU, SR with 95% intervals) of the Expert, every per-label field and the rule-Psi
-    SuReNav, and the two properties against the best field (highest mean IoU), paired."""
-    maps = {env.group: (env.prior.labels, stored[env.group], env.prior.frame.resolution) for env in envs}
-    fields = per_label_fields(maps)
+    SuReNav, and the two properties against ``field``'s choice (made on validation demonstrations), paired."""
+    fields = field.costs
     runs = {EXPERT: lambda env, w: ContextWalker(CONTEXT_PERSONAS[env.persona], margin_m * w.scale,
                                                  prior_hard(env, w)),
             RULE_PSI: lambda env, w: SuReNavPolicy(RuleCost(mean_persona(), prior_hard(env, w)), planner_mode,
@@ -108,8 +148,8 @@ def measure(envs: list[Environment], stored: dict[str, np.ndarray], settings: Be
             **{FIELD + name: (lambda env, w, t=table: CostFieldPolicy(t)) for name, table in fields.items()}}
     outcomes = {name: run_method(envs, stored, make, settings, graph) for name, make in runs.items()}
     rows = [_row(name, found, settings) for name, found in outcomes.items()]
-    best = max((r for r in rows if r["method"].startswith(FIELD)), key=lambda r: r["relaxation_iou"])["method"]
-    return {"environments": len(envs), "rows": rows, "best_field": best,
+    best = FIELD + field.name
+    return {"environments": len(envs), "rows": rows, "best_field": best, "field_val_iou": field.val_iou,
             "field_costs": {name: [round(float(c), 3) for c in t] for name, t in fields.items()},
             "context_share": _paired(outcomes[EXPERT], outcomes[best], context.min_context_share, settings, "share"),
             "region_expressible": _paired(outcomes[RULE_PSI], outcomes[best], context.min_region_gain, settings,
