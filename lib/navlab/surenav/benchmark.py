@@ -105,7 +105,9 @@ def surenav_policy(run: str, learned: Learned, settings: BenchmarkParams, scale:
         score = RCRPolicy(rcr_risk_table(settings.rcr.label_risk), settings.rcr.goal_weight).score
         return SuReNavPolicy(scored_cost(score, s.planner.rcr_scale_m), s.planner.mode,
                              s.model.window_margin_m * scale)
-    return _surenav_factory(learned, method, seed_of(run))(scale)
+    policy = _surenav_factory(learned, method, seed_of(run))()
+    policy.margin *= scale  # a fresh instance: its node window widens with the planning window
+    return policy
 
 
 def _surenav_factory(learned: Learned, method: str, seed: int):

@@ -126,12 +126,10 @@ class SuReNavPolicy:
 
 
 def learned_policy(artifacts_dir: str | Path, params: SuReNavParams, variant: str = "gps", seed: int | None = None,
-                   device: str | torch.device = "cpu") -> Callable[..., SuReNavPolicy]:
+                   device: str | torch.device = "cpu") -> Callable[[], SuReNavPolicy]:
     """A factory of fresh SuReNav policies (one per episode) driven by a trained estimator of the
     ``surenav_estimator`` stage: ``variant`` "gps" (the method) or "mpnn" (the no-attention ablation),
-    ``seed`` one of ``params.train.seeds`` (default the first). The model is loaded once. The factory
-    takes the planning window's widening (``surenav.windows.PlanningWindow.scale``, default 1), which
-    scales the node window's margin."""
+    ``seed`` one of ``params.train.seeds`` (default the first). The model is loaded once."""
     seed = params.train.seeds[0] if seed is None else seed
     cost = estimator_cost(load_estimator(model_path(artifacts_dir, variant, seed), device=device), device)
-    return lambda scale=1: SuReNavPolicy(cost, params.planner.mode, params.model.window_margin_m * scale)
+    return lambda: SuReNavPolicy(cost, params.planner.mode, params.model.window_margin_m)

@@ -117,14 +117,8 @@ def load_context_demos(artifacts_dir: str | Path, split: str) -> list[tuple[Sema
 def stored_environments(artifacts_dir: str | Path) -> tuple[list[Environment], dict[str, np.ndarray]]:
     """The test demonstrations as Table I environments (as ``context_environments`` builds them, read from
     the stage's output rather than redrawn), and each test tile's stored superpixels."""
-    return demo_environments(load_context_demos(artifacts_dir, "test"))
-
-
-def demo_environments(pairs: list[tuple[SemanticMap, MapDemos]]) -> tuple[list[Environment], dict[str, np.ndarray]]:
-    """Environments (one per semi-static demonstration) of any split's (tile, demonstrations), and each
-    tile's stored superpixels."""
     envs, stored = [], {}
-    for smap, md in pairs:
+    for smap, md in load_context_demos(artifacts_dir, "test"):
         stored[smap.name] = md.superpixels
         for i, demo in enumerate(md.semi_static):
             envs.append(Environment(f"{smap.name}/{i}", smap.name, smap, demo.labels_on(smap.labels),

@@ -36,7 +36,6 @@ from navlab.metrics.navigation import risk_table
 from navlab.sim.semi_static import Policy
 from navlab.surenav.baselines.cost_field import CostFieldPolicy
 from navlab.surenav.benchmark import Outcome, reference_superpixels, run_episode
-from navlab.surenav.context.dataset import demo_environments
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
 from navlab.surenav.context.regions import region_context
 from navlab.surenav.context.rules import SURFACE_TABLE, relaxation_costs
@@ -73,6 +72,18 @@ def per_label_fields(maps: dict[str, tuple[np.ndarray, np.ndarray, float]]) -> d
            "parking": mean["parking_cost"], "grass": mean["grass_edge_cost"], "rough_terrain": mean["rough_cost"]}
     return {"the rules' surface costs": SURFACE_TABLE, "the rules' mean Psi per metre": rules_mean,
             "the per-label demonstrator's personas' mean costs": np.array([old.get(lab.name, np.inf) for lab in LABELS])}
+
+
+def demo_environments(pairs: list[tuple[SemanticMap, MapDemos]]) -> tuple[list[Environment], dict[str, np.ndarray]]:
+    """Environments (one per semi-static demonstration) of any split's (tile, demonstrations), as
+    ``dataset.stored_environments`` builds the test ones, and each tile's stored superpixels."""
+    envs, stored = [], {}
+    for smap, md in pairs:
+        stored[smap.name] = md.superpixels
+        envs += [Environment(f"{smap.name}/{i}", smap.name, smap, demo.labels_on(smap.labels),
+                             smap.frame.world_to_cell(demo.start), smap.frame.world_to_cell(demo.goal), demo.persona,
+                             demo) for i, demo in enumerate(md.semi_static)]
+    return envs, stored
 
 
 @dataclass(frozen=True)
