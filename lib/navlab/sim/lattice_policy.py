@@ -176,7 +176,10 @@ class LatticePolicy:
             return np.zeros((0, 2))
         start_value = float(static.values(state[None])[0])
         if start_value <= 0.0:
-            clear = float(self.room.signed_distance(state[0], state[1], self.robot_radius)) > 0.0
+            # clear by the search's own conservative collision check (it bounds the raster's interpolation
+            # error): a car 0 < d < that bound from a wall passed the exact distance test, then the search
+            # refused its start with an error (a Table VIII sweep point, measured)
+            clear = float(self._obs.values(state[None])[0]) > 0.0
             if static.name != "BRT" or not clear:
                 self._carried = self._current = None
                 return np.zeros((0, 2))
