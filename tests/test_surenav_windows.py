@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -98,7 +100,7 @@ def test_windows_are_nested_and_end_on_the_whole_map(rows, cols, a, b, margin):
     for w in seen:
         assert w.box[0].start <= min(start[0], goal[0]) and w.box[0].stop > max(start[0], goal[0])
         assert w.box[1].start <= min(start[1], goal[1]) and w.box[1].stop > max(start[1], goal[1])
-    for small, big in zip(seen, seen[1:]):
+    for small, big in itertools.pairwise(seen):
         assert big.scale == 2 * small.scale
         assert big.box[0].start <= small.box[0].start and big.box[0].stop >= small.box[0].stop
         assert big.box[1].start <= small.box[1].start and big.box[1].stop >= small.box[1].stop

@@ -9,7 +9,7 @@ re-plan"), so a reader sees whether the paper's finding is wrong or sits at anot
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
 BUDGET_COLUMNS = ["method", "room", "setting", "budget", "success", "trips", "success_rate", "success_rate_ci", "wall_hits",
                   "deadlocks", "timeouts"]
@@ -60,10 +60,10 @@ def holding_range(values: Sequence[float], holds: Sequence[bool], unit: str) -> 
     return f"holds at {', '.join(_fmt(x) for x, ok in zip(v, h, strict=True) if ok)} {unit} only (of {span})"
 
 
-def _verdict(text: str, holds: Sequence[bool], detail: str, why: str = "") -> str:
-    """One claim sentence in the reports' form ("text: holds (detail)"), verdict over the whole curve."""
+def _verdict(text: str, holds: Sequence[bool], detail: str, counts: str) -> str:
+    """One claim sentence in the reports' form ("text: holds (where; the counts)"), verdict over the curve."""
     verdict = "holds" if all(holds) else "DOES NOT HOLD" if not any(holds) else "inconclusive"
-    return f"{text}: {verdict} ({detail}{'; why: ' + why if why and not all(holds) else ''})"
+    return f"{text}: {verdict} ({detail}; successes {counts})"
 
 
 def _success(rows: Sequence[dict], **match) -> dict[str, int]:
@@ -71,28 +71,30 @@ def _success(rows: Sequence[dict], **match) -> dict[str, int]:
     return {r["method"]: r["success"] for r in rows if all(r[k] == v for k, v in match.items())}
 
 
+def _counts(cells: Sequence[tuple[float, list[dict]]], methods: Sequence[str], n_key: str) -> str:
+    """The measured successes behind a verdict: "a / b / c of n at x; ..." per point (methods in order)."""
+    parts = []
+    for value, cell in cells:
+        s = _success(cell)
+        parts.append(f"{' / '.join(str(s[m]) for m in methods)} of {cell[0][n_key]} at {_fmt(value)}")
+    return f"{', '.join(methods)}: " + "; ".join(parts)
+
+
 def budget_claims(rows: Sequence[dict]) -> list[str]:
-    """Table VIII's two claims along the per-re-plan budget."""
+    """Table VIII's two claims along the per-re-plan budget; the why gives every row's successes per point."""
     budgets = sorted({r["budget"] for r in rows})
-
-    def curve(room: str, rule: Callable[[dict[str, int], int], bool]) -> list[bool]:
-        out = []
-        for b in budgets:
-            cell = [r for r in rows if r["room"] == room and r["budget"] == b]
-            out.append(rule(_success(cell), cell[0]["trips"]))
-        return out
-
-    hallway = curve("Long Hallway", lambda s, n: s["TTR + OBS"] > s["Dist + OBS"] and s["TTR + BRT"] > s["Dist + BRT"])
-    dense = curve("Dense Room", lambda s, n: s["TTR + BRT"] == n and all(s[m] < n for m in s if m != "TTR + BRT"))
+    methods = ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")
     unit = "expansions per re-plan"
-    return [
-        _verdict("in the Long Hallway TTR succeeds more often than Dist under both pruners", hallway,
-                 holding_range(budgets, hallway, unit),
-                 "with more search per re-plan either heuristic finds the hallway's route; the paper's time budget "
-                 "is not in its text"),
-        _verdict("in the Dense Room only TTR + BRT succeeds on every trip", dense, holding_range(budgets, dense, unit),
-                 "below it TTR + BRT itself deadlocks; above it the other rows also clear the room"),
-    ]
+    rules = (("Long Hallway", "in the Long Hallway TTR succeeds more often than Dist under both pruners",
+              lambda s, n: s["TTR + OBS"] > s["Dist + OBS"] and s["TTR + BRT"] > s["Dist + BRT"]),
+             ("Dense Room", "in the Dense Room only TTR + BRT succeeds on every trip",
+              lambda s, n: s["TTR + BRT"] == n and all(s[m] < n for m in s if m != "TTR + BRT")))
+    claims = []
+    for room, text, rule in rules:
+        cells = [(b, [r for r in rows if r["room"] == room and r["budget"] == b]) for b in budgets]
+        holds = [rule(_success(cell), cell[0]["trips"]) for _, cell in cells]
+        claims.append(_verdict(text, holds, holding_range(budgets, holds, unit), _counts(cells, methods, "trips")))
+    return claims
 
 
 LOOP_AXES = {"replan_hz": "Hz re-planning", "human_noise_m": "m of human-position noise",
@@ -107,25 +109,23 @@ def loop_curve(rows: Sequence[dict], axis: str, own: tuple[float, float, float])
 
 
 def loop_claims(rows: Sequence[dict], own: tuple[float, float, float]) -> list[str]:
-    """Table VI's two claims along each of the three axes (``loop_curve``)."""
+    """Table VI's two claims along each of the three axes (``loop_curve``); the why gives every row's
+    successful runs per point."""
     rules = (
         ("Face-to-Face", "FI-BRT clears every Face-to-Face run, FS-BRT and OBS do not",
-         lambda s, n: s["FI-BRT"] == n and s["FS-BRT"] < n and s["OBS"] < n,
-         "FS-BRT also clears it where the humans are pruned along their predicted path"),
+         lambda s, n: s["FI-BRT"] == n and s["FS-BRT"] < n and s["OBS"] < n),
         ("Zig-Zag", "FI-BRT and FS-BRT clear every Zig-Zag run, OBS does not",
-         lambda s, n: s["FI-BRT"] == n and s["FS-BRT"] == n and s["OBS"] < n,
-         "a BRT row also has contacts there"),
+         lambda s, n: s["FI-BRT"] == n and s["FS-BRT"] == n and s["OBS"] < n),
     )
     claims = []
-    for scenario, text, rule, why in rules:
+    for scenario, text, rule in rules:
         for axis, unit in LOOP_AXES.items():
             curve = [r for r in loop_curve(rows, axis, own) if r["scenario"] == scenario]
             values = sorted({r[axis] for r in curve})
             if len(values) < 2:
                 continue
-            holds = []
-            for v in values:
-                cell = [r for r in curve if r[axis] == v]
-                holds.append(rule(_success(cell), cell[0]["runs"]))
-            claims.append(_verdict(f"{text}, along {unit}", holds, holding_range(values, holds, unit), why))
+            cells = [(v, [r for r in curve if r[axis] == v]) for v in values]
+            holds = [rule(_success(cell), cell[0]["runs"]) for _, cell in cells]
+            claims.append(_verdict(f"{text}, along {unit}", holds, holding_range(values, holds, unit),
+                                   _counts(cells, ("FI-BRT", "FS-BRT", "OBS"), "runs")))
     return claims
