@@ -331,7 +331,10 @@ class HJPlayground:
         try:
             run = run_patrol(policy, probe, start, [s.goal], walkers, settings, rng)
             trip = run.trips[0]
-            outcome = f"{trip.outcome} after {trip.time_s:.1f} s, {trip.human_contacts} human contact(s)"
+            left = math.hypot(*(np.asarray(s.goal) - run.trajectory[-1][1:3]))
+            ended = f"still {left:.1f} m from the goal at the {seconds:g} s bound" if trip.outcome == "timeout" \
+                else f"{trip.outcome} after {trip.time_s:.1f} s"
+            outcome = f"{ended}, {trip.human_contacts} human contact(s)"
         except StopLoop:
             run = stopped_run(np.asarray(driven[1:]).reshape(-1, 3), seen[1:], start, s.goal)
             outcome = f"stopped at {run.trajectory[-1][0]:.1f} s"
