@@ -10,7 +10,16 @@ the transfer to the browser). A press refused as a bad click (e.g. a start the B
 like any other. The closed loop (seconds, with a progress line) is timed once per set-up, separately.
 
 CPU time is measured beside wall time: on these two cores shared with other jobs, it is what the wall
-time would be on an idle machine.
+time would be on an idle machine. Measured here, `default` profile, `--loop-s 4`, 88 interactions over the
+8 set-ups (3 refused), 1-min load average 3.2 at the start:
+
+    all interactions   median 310 ms wall (274 ms CPU)   p90 641 ms   max 2,043 ms
+
+    per interaction (median wall / CPU ms): choose set-up 343 / 322, click start 297 / 286, click goal
+    296 / 249, click human 340 / 312, human heading 376 / 365, robot heading 364 / 264, slice speed
+    260 / 208, static pruner 226 / 184, search (A* -> ANA*) 431 / 363, clear humans 301 / 225, start back
+    235 / 228. The slowest are searches that end without a plan (A*'s 400,000-expansion budget, ~1-2 s).
+    Closed loop, 4 s simulated: 2.7-4.9 s wall to simulate and render the playback.
 
 Usage: python benchmarks/playground_hj.py [--profile default] [--artifacts-dir artifacts] [--loop-s 4]
 """

@@ -356,3 +356,72 @@ def test_a_failing_cell_fails_the_check(browser, tmp_path):
     assert (run.images, run.images_rendered, run.cells_run, run.code_cells) == (1, 1, 4, 5)
     with pytest.raises(AssertionError, match="error output RuntimeError: broken on purpose"):
         check_clean(run)
+
+
+# --- HJ playground (issue 28, item 3): real clicks on its ipympl figure ------------------------------------
+# The figure's drawn pixels: a digest of the ipympl canvas (it redraws whenever the kernel sends a new image).
+_CANVAS_DIGEST_JS = """() => {
+  const canvas = document.querySelector('.navlab-result canvas');
+  if (!canvas || !canvas.width) return null;
+  const url = canvas.toDataURL();
+  let h = 2166136261;
+  for (let i = 0; i < url.length; i++) h = Math.imul(h ^ url.charCodeAt(i), 16777619) >>> 0;
+  return `${url.length}:${h}`;
+}"""
+
+
+def click_room(page: Page, x: float, y: float) -> str:
+    """A real click on the HJ playground's left panel at room position (x, y) m (the panel's box is
+    ``AXES[0]`` of the figure, the room 9.6 × 5.4 m); waits for the redrawn canvas and the idle kernel."""
+    from navlab.viz.playground.hj import AXES
+
+    left, bottom, width, height = AXES[0]
+    canvas = page.locator(".navlab-result .jupyter-matplotlib-canvas-div canvas").first
+    canvas.scroll_into_view_if_needed()
+    box = canvas.bounding_box()
+    before = page.evaluate(_CANVAS_DIGEST_JS)
+    position = {"x": box["width"] * (left + width * x / 9.6), "y": box["height"] * (1 - bottom - height * y / 5.4)}
+    page.locator(".navlab-result .jupyter-matplotlib-canvas-div").first.click(position=position)
+    deadline = time.monotonic() + 120
+    while page.evaluate(_CANVAS_DIGEST_JS) == before:
+        message = page.locator(".navlab-playground-message").first.inner_text()
+        assert time.monotonic() < deadline, f"the click at ({x:.1f}, {y:.1f}) redrew nothing; message: {message}"
+        time.sleep(0.2)
+    _wait(page, "s.kernel === 'idle' && !s.busy", 60)
+    time.sleep(1.0)  # ipympl sends the image after the kernel's answer; let the last one land
+    return page.evaluate(_CANVAS_DIGEST_JS)
+
+
+@pytest.mark.notebook
+def test_hj_playground_answers_clicks(browser, lab):
+    """The HJ playground as a person uses it: Run All, then with the mode toggle click a new goal, a new start
+    and a human on the room figure. Each click redraws the figure; no error output, no refusal in the
+    message line. Screenshots after Run All and after the clicks; the last one is also docs/playground_hj.png."""
+    url, token, _ = lab
+    notebook = PLAYGROUNDS / "hj.ipynb"
+    rel = notebook.relative_to("notebooks").as_posix()
+    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    seen: list[str] = []
+
+    def interact(page: Page, run: LabRun) -> None:
+        check_clean(run)
+        page.wait_for_function(f"() => ({_CANVAS_DIGEST_JS})() !== null", timeout=60_000)
+        seen.append(page.evaluate(_CANVAS_DIGEST_JS))
+        for mode, (x, y) in (("goal", (8.0, 1.6)), ("start", (1.0, 1.0)), ("human", (6.0, 1.2))):
+            page.locator(".navlab-mode button", has_text=mode).first.click()
+            seen.append(click_room(page, x, y))
+            message = page.locator(".navlab-playground-message").first.inner_text()
+            assert ERROR_MARK not in message, f"the playground refused the {mode} click: {message}"
+            assert f"next click sets the {mode}" in message, message
+        assert "1 human(s)" in page.locator(".navlab-playground-message").first.inner_text()
+        state = page.evaluate(_STATE_JS)
+        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
+        assert not errors, f"error output after the clicks: {errors}"
+        page.locator(".navlab-mode").first.scroll_into_view_if_needed()
+        _screenshot(page, shots.with_name(shots.name + "__clicked.png"))
+        _screenshot(page, repo_root() / "docs" / "playground_hj.png")
+
+    run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
+    print(f"{notebook}: {run.seconds}; canvas digests {seen}")
+    assert len(seen) == 4 and None not in seen
+    assert len(set(seen)) == 4, f"a click left the drawn figure unchanged: {seen}"
