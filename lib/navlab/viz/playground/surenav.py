@@ -287,9 +287,10 @@ class SuReNavPlayground:
     def _costs(self, tile: str, start: Cell, goal: Cell, closed: frozenset[int]) -> Costs:
         smap, truth = self.maps[tile], self.truths(tile, closed)
         sp = np.where(np.isin(truth, HARD_IDS), HARD, self.superpixels[tile])
-        graph = build_region_graph(sp, truth, smap.frame, self.params.surenav.graph.tau_m)
+        ends = smap.frame.cell_to_world(np.array([start, goal]))
+        graph = build_region_graph(sp, truth, smap.frame, self.params.surenav.graph.tau_m).with_endpoints(*ends)
         policy: SuReNavPolicy = surenav_policy(self.surenav_run, self.learned, self.bench)
-        nodes, psi, route = policy.relax(graph, *smap.frame.cell_to_world(np.array([start, goal])))
+        nodes, psi, route = policy.relax(graph, *ends)
         return Costs(graph, nodes, psi, route)
 
     def _check_ends(self, start: Cell, goal: Cell, closed: frozenset[int]) -> None:
