@@ -382,13 +382,15 @@ def metrics_html(outcome: SuReNavOutcome) -> str:
     """Every method's metrics as a small table: status, path length, relaxed superpixels and area, total
     risk (Fig. 4's unit risks) and the normalised Fréchet distance to each persona's expert path (Table I)."""
     names = [p.name for p in PERSONAS]
-    head = ("<tr><th>method</th><th>status</th><th>length [m]</th><th>relaxed</th><th>relaxed area [m²]</th>"
-            "<th>risk [risk·m]</th>" + "".join(f"<th>Fréchet to {n}</th>" for n in names) + "</tr>")
+    head = ('<tr><th rowspan="2">method</th><th rowspan="2">status</th><th rowspan="2">length<br>[m]</th>'
+            '<th rowspan="2">relaxed<br>superpixels</th><th rowspan="2">relaxed<br>area [m²]</th>'
+            f'<th rowspan="2">risk<br>[risk·m]</th><th colspan="{len(names)}">Fréchet to the expert</th></tr>'
+            "<tr>" + "".join(f"<th>{n}</th>" for n in names) + "</tr>")
     rows = "".join(
-        f'<tr><td style="color:{COLOURS[m]}">{html.escape(m)}</td><td>{r.status}</td><td>{r.length_m:.0f}</td>'
-        f"<td>{len(r.relaxed)}</td><td>{r.relaxed_m2:.0f}</td><td>{r.risk:.1f}</td>"
+        f'<tr><td style="color:{COLOURS[m]};white-space:nowrap">{html.escape(m)}</td><td>{r.status}</td>'
+        f"<td>{r.length_m:.0f}</td><td>{len(r.relaxed)}</td><td>{r.relaxed_m2:.0f}</td><td>{r.risk:.1f}</td>"
         + "".join(f"<td>{r.frechet[n]:.2f}</td>" for n in names) + "</tr>" for m, r in outcome.runs.items())
-    return f"<table>{head}{rows}</table>"
+    return f'<table style="font-size:11px;line-height:1.3">{head}{rows}</table>'
 
 
 def is_widget_backend() -> bool:
@@ -411,10 +413,12 @@ class SuReNavView(PlaygroundView):
         self.tiles.add_class("navlab-tile")
         self._syncing = False  # True while the code, not a person, sets a widget
         self.tiles.observe(lambda c: self._forward(p.choose_tile, c["new"]), names="value")
-        self.modes = widgets.ToggleButtons(options=MODES, value=p.mode, description="click sets")
+        self.modes = widgets.ToggleButtons(options=MODES, value=p.mode, description="click sets",
+                                           style={"button_width": "auto"})
         self.modes.add_class("navlab-mode")
         self.modes.observe(lambda c: self._forward(p.set_mode, c["new"]), names="value")
         self.costs = widgets.ToggleButton(value=p.show_costs, description="show relaxation cost Ψ",
+                                          layout=widgets.Layout(width="auto"),
                                           tooltip="the estimator's cost of relaxing each superpixel (bright = cheap)")
         self.costs.add_class("navlab-costs")
         self.costs.observe(lambda c: self._forward(p.set_costs, c["new"]), names="value")
@@ -501,11 +505,11 @@ class SuReNavView(PlaygroundView):
             import matplotlib.pyplot as plt
 
             with plt.ioff():
-                fig = plt.figure(figsize=(5.6, 5.6), dpi=100)
+                fig = plt.figure(figsize=(5.2, 5.2), dpi=100)
             fig.canvas.header_visible = fig.canvas.footer_visible = fig.canvas.toolbar_visible = False
             fig.canvas.resizable = False
         else:
-            fig = Figure(figsize=(5.6, 5.6), dpi=100)
+            fig = Figure(figsize=(5.2, 5.2), dpi=100)
             figure_bytes(fig)  # attaches an Agg canvas
         ax = fig.add_axes((0.1, 0.07, 0.88, 0.88))
         ax.tick_params(labelsize=7)
