@@ -409,6 +409,9 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
     seen: list[str] = []
 
     def message(page: Page) -> str:
+        """The message line once the kernel's answer arrived (a widget click's wait ends at "working …")."""
+        page.wait_for_function("() => !document.querySelector('.navlab-playground-message')"
+                               ".innerText.startsWith('working')", timeout=60_000)
         return page.locator(".navlab-playground-message").first.inner_text()
 
     def interact(page: Page, run: LabRun) -> None:

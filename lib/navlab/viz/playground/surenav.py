@@ -379,15 +379,16 @@ def outcome_figure(outcome: SuReNavOutcome, smap: SemanticMap, superpixels: np.n
 
 
 def metrics_html(outcome: SuReNavOutcome) -> str:
-    """Every method's metrics as a small table: status, path length, relaxed superpixels and area, total
+    """Every method's metrics as a small table: status (✓: reached), path length, relaxed superpixels and area, total
     risk (Fig. 4's unit risks) and the normalised Fréchet distance to each persona's expert path (Table I)."""
     names = [p.name for p in PERSONAS]
     head = ('<tr><th rowspan="2">method</th><th rowspan="2">status</th><th rowspan="2">length<br>[m]</th>'
-            '<th rowspan="2">relaxed<br>superpixels</th><th rowspan="2">relaxed<br>area [m²]</th>'
-            f'<th rowspan="2">risk<br>[risk·m]</th><th colspan="{len(names)}">Fréchet to the expert</th></tr>'
+            '<th rowspan="2">relaxed</th><th rowspan="2">relaxed<br>area [m²]</th>'
+            f'<th rowspan="2">risk<br>[risk·m]</th><th colspan="{len(names)}">Fréchet to expert</th></tr>'
             "<tr>" + "".join(f"<th>{n}</th>" for n in names) + "</tr>")
     rows = "".join(
-        f'<tr><td style="color:{COLOURS[m]};white-space:nowrap">{html.escape(m)}</td><td>{r.status}</td>'
+        f'<tr><td style="color:{COLOURS[m]};white-space:nowrap">{html.escape(m)}</td>'
+        f"<td>{'✓' if r.status == 'reached' else r.status}</td>"
         f"<td>{r.length_m:.0f}</td><td>{len(r.relaxed)}</td><td>{r.relaxed_m2:.0f}</td><td>{r.risk:.1f}</td>"
         + "".join(f"<td>{r.frechet[n]:.2f}</td>" for n in names) + "</tr>" for m, r in outcome.runs.items())
     return f'<table style="font-size:11px;line-height:1.3">{head}{rows}</table>'
