@@ -225,12 +225,17 @@ class SuReNavPlayground:
         """The notebook's scenario: ``tile`` (None: the first test tile), ``start`` / ``goal`` world (x, y)
         metres (None: the tile's first test demonstration's), ``closed`` a list of world points whose
         superpixels are closed, or ``"midway"``: the superpixel halfway along the cautious expert's path."""
-        self.choose_tile(self.tiles()[0] if tile is None else tile)
-        ends = [self.defaults[self.tile][k] if xy is None else self.cell_at(*xy) for k, xy in enumerate((start, goal))]
-        self._check_ends(*ends, frozenset())
-        self.start, self.goal = ends
-        for point in ([self.midway()] if closed == "midway" else closed or ()):
-            self.toggle(self.cell_at(*point) if closed != "midway" else point)
+        before = self.tile, self.start, self.goal, self.closed
+        try:
+            self.choose_tile(self.tiles()[0] if tile is None else tile)
+            ends = [self.defaults[self.tile][k] if xy is None else self.cell_at(*xy) for k, xy in enumerate((start, goal))]
+            self._check_ends(*ends, frozenset())
+            self.start, self.goal = ends
+            for cell in [self.midway()] if closed == "midway" else [self.cell_at(*xy) for xy in closed or ()]:
+                self.toggle(cell)
+        except UserError:
+            self.tile, self.start, self.goal, self.closed = before  # refused as a whole
+            raise
 
     def midway(self) -> Cell:
         """The cell halfway along the cautious expert's path whose superpixel can be closed (not the start's
@@ -457,13 +462,8 @@ class SuReNavView(PlaygroundView):
         return (f"{p.describe()}; {lengths}{'; Ψ shown' if p.show_costs else ''}; "
                 f"next click on the map sets: {p.mode}")
 
-    def world_point(self, fx: float, fy: float) -> tuple[float, float]:
-        """The world (x, y) under figure fraction (fx, fy) of the map (the browser test aims with it)."""
-        inverse = self.ax.transData.inverted()
-        return tuple(float(v) for v in inverse.transform(self.figure.transFigure.transform((fx, fy))))
-
     def figure_fraction(self, x: float, y: float) -> tuple[float, float]:
-        """Figure fraction (from the lower left) of world point (x, y): where to click for it."""
+        """Figure fraction (from the lower left) of world point (x, y): where the browser test clicks for it."""
         fx, fy = self.figure.transFigure.inverted().transform(self.ax.transData.transform((x, y)))
         return float(fx), float(fy)
 
