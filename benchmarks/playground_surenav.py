@@ -13,7 +13,7 @@ and the seven panels as JPEG. "new" rows compute a scenario for the first time; 
 
 CPU time is measured beside wall time: on these two cores shared with other jobs, it is what the wall
 time would be on an idle machine. Measured here, `default` profile (500 m tiles at 1 m, GPS estimator
-seed 0, 1 torch thread), 5 tiles (50 interactions), 1-min load average 3.2 at the start:
+seed 0, 1 torch thread), 5 tiles (50 interactions), 1-min load average 3.2 at the start (map figure 5.6 in):
 
     all interactions           median  315 ms wall (207 ms CPU)   p90  873 ms wall   max 1,456 ms
     new scenario               median  760 ms wall (496 ms CPU)   p90 1,273 ms wall  (22)
@@ -23,7 +23,13 @@ seed 0, 1 torch thread), 5 tiles (50 interactions), 1-min load average 3.2 at th
     304 / 201, hide Psi 134 / 90, move the goal 832 / 566, move the start 815 / 550, reopen the superpixel
     564 / 375, close it again (cached) 154 / 109, reopen all (cached) 132 / 98, refused click 0 / 0.
 
-A cached scenario's ~100 ms is the map's Agg rendering; a new one adds the seven walks (~0.3-0.5 s CPU).
+The same on the final code (map figure 5.2 in), 1-min load average 1.3 (wall = CPU within 1 ms):
+
+    all interactions           median  194 ms wall   p90  537 ms   max 931 ms   (50)
+    new scenario               median  459 ms wall   p90  740 ms   max 931 ms   (22)
+    cached / no walk           median   89 ms wall   p90  195 ms   max 279 ms   (28)
+
+A cached scenario's ~90 ms is the map's Agg rendering; a new one adds the seven walks (~0.3-0.4 s CPU).
 
 Usage: python benchmarks/playground_surenav.py [--profile default] [--tiles 5] [--data-dir data]
        [--artifacts-dir artifacts]
