@@ -425,3 +425,86 @@ def test_hj_playground_answers_clicks(browser, lab):
     print(f"{notebook}: {run.seconds}; canvas digests {seen}")
     assert len(seen) == 4 and None not in seen
     assert len(set(seen)) == 4, f"a click left the drawn figure unchanged: {seen}"
+
+
+# --- SuReNav playground (issue 28 item 1) ------------------------------------------------------------
+
+def click_map(page: Page, fraction: tuple[float, float]) -> str | None:
+    """A real mouse click on the playground's ipympl map at figure fraction (fx, fy) from the lower left;
+    waits for the result to redraw and the kernel to go idle. The drawn result's digest after it."""
+    before = page.evaluate(_RESULT_DIGEST_JS)
+    box = page.locator(".navlab-map .jupyter-matplotlib-canvas-div canvas").last.bounding_box()
+    page.mouse.click(box["x"] + fraction[0] * box["width"], box["y"] + (1 - fraction[1]) * box["height"])
+    deadline = time.monotonic() + 120
+    while page.evaluate(_RESULT_DIGEST_JS) == before:
+        if time.monotonic() > deadline:
+            raise AssertionError(f"map click at {fraction}: nothing redrawn within 120 s; message: "
+                                 f"{page.locator('.navlab-playground-message').first.inner_text()}")
+        time.sleep(0.2)
+    _wait(page, "s.kernel === 'idle' && !s.busy", 60)
+    return page.evaluate(_RESULT_DIGEST_JS)
+
+
+def surenav_targets(profile: str, data_dir: Path, artifacts_dir: Path) -> dict[str, tuple[float, float]]:
+    """Where to click, as figure fractions of the map: the notebook's default scenario replayed here (same
+    data, artefacts and code, so the same paths): the goal halfway along the cautious expert's path, then
+    the start a quarter along the new one, then the superpixel halfway along the path after both moves."""
+    from navlab.viz.playground.surenav import EXPERTS, MODES, SuReNavPlayground, SuReNavView
+
+    view = SuReNavView(SuReNavPlayground.load(profile, data_dir, artifacts_dir))
+    p = view.playground
+    assert view.start(), view.message.text
+    targets = {}
+    for name, mode, share in (("goal", "goal", 0.5), ("start", "start", 0.25), ("close", MODES[2], None)):
+        p.set_mode(mode)
+        cells = p.outcome().runs[EXPERTS[0]].cells
+        cell = p.midway() if share is None else tuple(cells[int(share * (len(cells) - 1))])
+        targets[name] = view.figure_fraction(*p.xy(cell))
+        assert view.act(p.click, *p.xy(cell)), view.message.text
+    return targets
+
+
+@pytest.mark.notebook
+def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artifacts):
+    """The SuReNav playground as a person uses it: Run All, then real clicks on the map (ipympl canvas) and on
+    the widgets: goal mode + a click on the map, start mode + a click, close mode + a click on a superpixel,
+    then the Psi toggle. Each map click redraws a different result; no error output, no refusal in the
+    message line. Screenshots after Run All and after the clicks; the last one is what docs/ shows."""
+    url, token, _ = lab
+    notebook = PLAYGROUNDS / "surenav.ipynb"
+    rel = notebook.relative_to("notebooks").as_posix()
+    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    targets = surenav_targets("smoke", smoke_data, smoke_artifacts)
+    seen: list[str] = []
+
+    def message(page: Page) -> str:
+        """The message line once the kernel's answer arrived (a widget click's wait ends at "working …")."""
+        page.wait_for_function("() => !document.querySelector('.navlab-playground-message')"
+                               ".innerText.startsWith('working')", timeout=60_000)
+        return page.locator(".navlab-playground-message").first.inner_text()
+
+    def interact(page: Page, run: LabRun) -> None:
+        check_clean(run)
+        page.wait_for_function("() => { const i = document.querySelector('img.navlab-result');"
+                               " return i && i.naturalWidth > 0; }", timeout=60_000)
+        page.locator(".navlab-map").scroll_into_view_if_needed()
+        seen.append(page.evaluate(_RESULT_DIGEST_JS))
+        for name, button in (("goal", 1), ("start", 0), ("close", 2)):  # the buttons in MODES order
+            click_widget(page, ".navlab-mode button", button, redraws=False)
+            assert f"sets: {name}" in message(page), message(page)
+            seen.append(click_map(page, targets[name]))
+            assert ERROR_MARK not in message(page), f"the playground refused the {name} click: {message(page)}"
+        assert "2 superpixel(s) closed" in message(page), message(page)  # the scenario's one, and this one
+        _screenshot(page, shots.with_name(shots.name + "__closed.png"))
+        click_widget(page, ".navlab-costs", redraws=False)
+        assert "Ψ shown" in message(page) and ERROR_MARK not in message(page), message(page)
+        state = page.evaluate(_STATE_JS)
+        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
+        assert not errors, f"error output after the clicks: {errors}"
+        page.locator(".navlab-map").scroll_into_view_if_needed()
+        _screenshot(page, shots.with_name(shots.name + "__costs.png"))
+
+    run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
+    print(f"{notebook}: {run.seconds}; result digests {seen}")
+    assert len(seen) == 4 and None not in seen
+    assert len(set(seen)) == 4, f"a click left the drawn result unchanged: {seen}"
