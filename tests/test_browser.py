@@ -302,6 +302,19 @@ def click_widget(page: Page, selector: str, nth: int = 0, redraws: bool = True) 
 
 
 @pytest.mark.notebook
+def assert_no_error_output(page: Page) -> None:
+    """After a playground's clicks: no cell of the notebook shows an error output."""
+    state = page.evaluate(_STATE_JS)
+    errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
+    assert not errors, f"error output after the clicks: {errors}"
+
+
+def assert_each_click_redrew(seen: list[str | None], clicks: int) -> None:
+    """``seen``: the drawn result's digest before the clicks and after each one; every click changed it."""
+    assert len(seen) == clicks and None not in seen, seen
+    assert len(set(seen)) == clicks, f"a click left the drawn result unchanged: {seen}"
+
+
 def test_pacer_playground_answers_clicks(browser, lab):
     """The PACER playground as a person uses it: Run All, make the context uninformative, click two terrain
     thumbnails (a pair "A over B"), invert it. Each click redraws a different result; no error output, no
@@ -326,16 +339,13 @@ def test_pacer_playground_answers_clicks(browser, lab):
         seen.append(click_widget(page, ".navlab-invert"))
         message = page.locator(".navlab-playground-message").first.inner_text()
         assert ERROR_MARK not in message, f"the playground refused a click: {message}"
-        state = page.evaluate(_STATE_JS)
-        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
-        assert not errors, f"error output after the clicks: {errors}"
+        assert_no_error_output(page)
         page.locator("img.navlab-result").scroll_into_view_if_needed()
         _screenshot(page, shots.with_name(shots.name + "__inverted.png"))
 
     run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
     print(f"{notebook}: {run.seconds}; result digests {seen}")
-    assert len(seen) == 4 and None not in seen
-    assert len(set(seen)) == 4, f"a click left the drawn result unchanged: {seen}"
+    assert_each_click_redrew(seen, 4)
 
 
 def test_a_failing_cell_fails_the_check(browser, tmp_path):
@@ -396,7 +406,7 @@ def click_room(page: Page, x: float, y: float) -> str:
 def test_hj_playground_answers_clicks(browser, lab):
     """The HJ playground as a person uses it: Run All, then with the mode toggle click a new goal, a new start
     and a human on the room figure. Each click redraws the figure; no error output, no refusal in the
-    message line. Screenshots after Run All and after the clicks; the last one is also docs/playground_hj.png."""
+    message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_hj.png)."""
     url, token, _ = lab
     notebook = PLAYGROUNDS / "hj.ipynb"
     rel = notebook.relative_to("notebooks").as_posix()
@@ -414,17 +424,13 @@ def test_hj_playground_answers_clicks(browser, lab):
             assert ERROR_MARK not in message, f"the playground refused the {mode} click: {message}"
             assert f"next click sets the {mode}" in message, message
         assert "1 human(s)" in page.locator(".navlab-playground-message").first.inner_text()
-        state = page.evaluate(_STATE_JS)
-        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
-        assert not errors, f"error output after the clicks: {errors}"
+        assert_no_error_output(page)
         page.locator(".navlab-mode").first.scroll_into_view_if_needed()
         _screenshot(page, shots.with_name(shots.name + "__clicked.png"))
-        _screenshot(page, repo_root() / "docs" / "playground_hj.png")
 
     run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
     print(f"{notebook}: {run.seconds}; canvas digests {seen}")
-    assert len(seen) == 4 and None not in seen
-    assert len(set(seen)) == 4, f"a click left the drawn figure unchanged: {seen}"
+    assert_each_click_redrew(seen, 4)
 
 
 # --- SuReNav playground (issue 28 item 1) ------------------------------------------------------------
@@ -469,7 +475,7 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
     """The SuReNav playground as a person uses it: Run All, then real clicks on the map (ipympl canvas) and on
     the widgets: goal mode + a click on the map, start mode + a click, close mode + a click on a superpixel,
     then the Psi toggle. Each map click redraws a different result; no error output, no refusal in the
-    message line. Screenshots after Run All and after the clicks; the last one is what docs/ shows."""
+    message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_surenav.png)."""
     url, token, _ = lab
     notebook = PLAYGROUNDS / "surenav.ipynb"
     rel = notebook.relative_to("notebooks").as_posix()
@@ -498,13 +504,10 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
         _screenshot(page, shots.with_name(shots.name + "__closed.png"))
         click_widget(page, ".navlab-costs", redraws=False)
         assert "Ψ shown" in message(page) and ERROR_MARK not in message(page), message(page)
-        state = page.evaluate(_STATE_JS)
-        errors = [(o["ename"], o["evalue"]) for c in state["cells"] for o in c["outputs"] if o["type"] == "error"]
-        assert not errors, f"error output after the clicks: {errors}"
+        assert_no_error_output(page)
         page.locator(".navlab-map").scroll_into_view_if_needed()
         _screenshot(page, shots.with_name(shots.name + "__costs.png"))
 
     run = run_all(browser, url, token, rel, shots.with_name(shots.name + ".png"), interact=interact)
     print(f"{notebook}: {run.seconds}; result digests {seen}")
-    assert len(seen) == 4 and None not in seen
-    assert len(set(seen)) == 4, f"a click left the drawn result unchanged: {seen}"
+    assert_each_click_redrew(seen, 4)
