@@ -1,0 +1,127 @@
+"""Does the texture matcher recognise the evaluation maps' terrains? (issue 24's diagnosis, measured every run)
+
+PACER's costs follow its matcher: a costmap made from the matcher's preference evidence alone closes as much
+of the uniform-to-oracle gap as the whole network, and neither a transitive reading of the pairs nor a
+matching loss moved it (benchmarks/README.md, "PACER variants"). What the robot's path then depends on is
+whether the matcher's attention, at each map location, peaks on a context patch of the terrain that is
+really there. This module measures exactly that on the held-out aerial maps, beside the score of always
+naming the map's commonest context terrain (what a matcher that tells nothing apart can reach): a
+recognition rate near that baseline means the context cannot steer the costmap, whatever the pairs say.
+
+The cosines are the matcher's own (``TextureMatcher.embed``, centred on the context's patch features and
+L2-normalised, image features locally averaged over 3 x 3 cells), recomputed here because the network
+returns only the maps it derives from them; ``tests/test_pacer_recognition.py`` checks that they give the
+network's own preference map S back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+from torch.nn import functional as F
+
+from navlab.core.params.pacer import PacerDataParams
+from navlab.core.seeding import rng
+from navlab.metrics.intervals import bootstrap_mean_ci
+from navlab.pacer.aerial import AerialMap
+from navlab.pacer.experiments import map_context
+from navlab.pacer.model import TextureMatcher
+from navlab.pacer.preferences import Preference
+from navlab.pacer.terrain import TerrainBank
+
+
+@torch.no_grad()
+def patch_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+    """(2n, h, w): cosine of every image cell (stride ``2 ** len(match_channels)``) with each of the context's
+    2n patches (the n preferred first, then the n others), as the matcher computes them; image (3, H, W),
+    context (3n, 2p, p)."""
+    c = matcher.colour_channels
+    half = context.shape[1] // 2
+    patches = torch.cat([context[None, :, :half], context[None, :, half:]], dim=1).reshape(-1, c, half, half)
+    keys = matcher.embed(patches).mean(dim=(2, 3))
+    centre = keys.mean(dim=0)
+    keys = F.normalize(keys - centre, dim=1)
+    feats = F.avg_pool2d(matcher.embed(image[None]), 3, stride=1, padding=1, count_include_pad=False)[0]
+    feats = F.normalize(feats - centre[:, None, None], dim=0)
+    return torch.einsum("kd,dhw->khw", keys, feats)
+
+
+def recognition(cosines: np.ndarray, labels: np.ndarray, patch_terrains: np.ndarray) -> tuple[float, float] | None:
+    """(share of cells whose best-matching patch shows the cell's terrain, share of the commonest named
+    terrain) over the cells whose terrain the context names; cosines (2n, h, w), labels (H, W) sampled at
+    each cell's centre, patch_terrains (2n,). None when no cell's terrain is named."""
+    h, w = cosines.shape[1:]
+    sy, sx = labels.shape[0] // h, labels.shape[1] // w
+    cells = labels[sy // 2 :: sy, sx // 2 :: sx][:h, :w]
+    named = np.isin(cells, patch_terrains)
+    if not named.any():
+        return None
+    picked = np.asarray(patch_terrains)[cosines.argmax(axis=0)]
+    _, counts = np.unique(cells[named], return_counts=True)
+    return float((picked[named] == cells[named]).mean()), float(counts.max() / counts.sum())
+
+
+@dataclass(frozen=True)
+class Recognition:
+    """Per map (same order as the maps): the matcher's recognition rate and the commonest-terrain baseline."""
+
+    rate: np.ndarray
+    baseline: np.ndarray
+
+
+def map_recognition(matcher: TextureMatcher, maps: Sequence[AerialMap], bank: TerrainBank, data: PacerDataParams,
+                    preference: Preference, seed: int, device: str = "cpu") -> Recognition:
+    """The matcher on every map under the map's own informative context (the one Tables I-IV plan with)."""
+    rates, baselines = [], []
+    for index, amap in enumerate(maps):
+        _, context, pairs = map_context(bank, data, amap, preference, True, seed, index)
+        cosines = patch_cosines(matcher, torch.as_tensor(amap.image, device=device),
+                                torch.as_tensor(context, device=device)).cpu().numpy()
+        found = recognition(cosines, amap.labels, np.concatenate([pairs[:, 0], pairs[:, 1]]))
+        if found is not None:
+            rates.append(found[0])
+            baselines.append(found[1])
+    return Recognition(np.asarray(rates), np.asarray(baselines))
+
+
+RECOGNITION_COLUMNS = ("recognition", "recognition_ci", "commonest_terrain", "commonest_terrain_ci",
+                       "above_commonest", "above_commonest_ci")  # beside model, set, context and maps
+RECOGNITION_CONTEXT = "matcher's nearest patch"
+
+
+def recognition_rows(models: Mapping[str, torch.nn.Module], maps: Mapping[str, Sequence[AerialMap]], bank: TerrainBank,
+                     data: PacerDataParams, seed: int, device: str = "cpu") -> list[dict]:
+    """One row per (model with a matcher, map group): mean recognition rate and baseline over the maps under
+    the realistic preference (the matcher reads appearance only, so the preference changes nothing but
+    which pairs are drawn), with bootstrap intervals over maps and the paired difference."""
+    rows = []
+    for name, model in models.items():
+        if getattr(model, "matcher", None) is None:
+            continue
+        for terrains, group in maps.items():
+            found = map_recognition(model.matcher.eval(), group, bank, data, "realistic", seed, device)
+            diff = found.rate - found.baseline
+            rows.append({"model": name, "set": f"{terrains} maps", "context": RECOGNITION_CONTEXT,
+                         "maps": len(found.rate), "recognition": float(found.rate.mean()),
+                         "recognition_ci": bootstrap_mean_ci(found.rate, rng(seed, "pacer.recognition", name, terrains)),
+                         "commonest_terrain": float(found.baseline.mean()),
+                         "commonest_terrain_ci": bootstrap_mean_ci(found.baseline,
+                                                                   rng(seed, "pacer.recognition.base", terrains)),
+                         "above_commonest": float(diff.mean()),
+                         "above_commonest_ci": bootstrap_mean_ci(diff, rng(seed, "pacer.recognition.diff", name,
+                                                                           terrains))})
+    return rows
+
+
+def recognition_note(data: PacerDataParams) -> str:
+    """What the recognition rows of ``context_following`` measure, for the report's notes."""
+    return (f"Rows '{RECOGNITION_CONTEXT}' (navlab.pacer.recognition): on the tables' held-out aerial maps, each with "
+            f"its own {data.n_pairs}-pair context (realistic preference), the share of map cells whose most similar "
+            "context patch (the texture matcher's own cosines, the attention's peak) shows the terrain really there, "
+            "over the cells whose terrain the context names; commonest_terrain: the share of the commonest named "
+            "terrain, what a matcher that tells nothing apart scores; above_commonest: the paired difference; "
+            "intervals: bootstrap over maps. The costmap's preference evidence is a function of these cosines, so "
+            "a rate near the baseline means the context cannot steer the costmap, however well the pairs are read.")
