@@ -33,6 +33,7 @@ import time
 
 from matplotlib.backend_bases import MouseEvent
 
+from navlab.viz.playground.common import latency_line
 from navlab.viz.playground.hj import HJPlayground, HJView
 
 CLICKS = {  # per set-up: start, goal, human (room coordinates, free in every room)
@@ -77,14 +78,6 @@ def session(view: HJView, key: str) -> list[tuple[str, float, float, str]]:
     return rows
 
 
-def summary(label: str, times: list[float]) -> str:
-    if not times:
-        return f"{label:28s} none"
-    p90 = statistics.quantiles(times, n=10)[-1] if len(times) > 1 else times[0]
-    return (f"{label:28s} median {statistics.median(times):5.0f} ms   p90 {p90:5.0f} ms   "
-            f"max {max(times):5.0f} ms   ({len(times)})")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--profile", default="default")
@@ -110,8 +103,8 @@ def main() -> None:
     for name in dict.fromkeys(r[0] for r in rows):
         wall, cpu = ([r[k] for r in rows if r[0] == name] for k in (1, 2))
         print(f"  {name:24s} median {statistics.median(wall):5.0f} ms wall, {statistics.median(cpu):5.0f} ms CPU")
-    print(summary("all interactions, wall", [r[1] for r in rows]))
-    print(summary("all interactions, CPU", [r[2] for r in rows]))
+    print(latency_line("all interactions, wall", [r[1] for r in rows]))
+    print(latency_line("all interactions, CPU", [r[2] for r in rows]))
     for key, seconds, text in loops:
         print(f"  closed loop {key:15s} {seconds:5.1f} s wall for {args.loop_s} s simulated: {text}")
 

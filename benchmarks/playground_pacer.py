@@ -35,6 +35,7 @@ import argparse
 import os
 import statistics
 
+from navlab.viz.playground.common import latency_line
 from navlab.viz.playground.pacer import PacerPlayground, PacerView
 
 
@@ -69,14 +70,6 @@ def session(view: PacerView, choice: str, next_choice: str) -> list[tuple[str, f
     return rows
 
 
-def summary(label: str, times: list[float]) -> str:
-    if not times:
-        return f"{label:25s} none"
-    p90 = statistics.quantiles(times, n=10)[-1] if len(times) > 1 else times[0]
-    return (f"{label:25s} median {statistics.median(times):5.0f} ms   p90 {p90:5.0f} ms   "
-            f"max {max(times):5.0f} ms   ({len(times)})")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--profile", default="default")
@@ -99,8 +92,8 @@ def main() -> None:
         print(f"  {name:30s} median {statistics.median(wall):5.0f} ms wall, {statistics.median(cpu):5.0f} ms CPU")
     for label, keep in (("all interactions", lambda new: True), ("new (map, context)", lambda new: new),
                         ("cached / no compute", lambda new: not new)):
-        print(summary(f"{label}, wall", [r[1] for r in rows if keep(r[3])]))
-        print(summary(f"{label}, CPU", [r[2] for r in rows if keep(r[3])]))
+        print(latency_line(f"{label}, wall", [r[1] for r in rows if keep(r[3])], 25))
+        print(latency_line(f"{label}, CPU", [r[2] for r in rows if keep(r[3])], 25))
 
 if __name__ == "__main__":
     main()

@@ -302,6 +302,13 @@ def click_widget(page: Page, selector: str, nth: int = 0, redraws: bool = True) 
 
 
 @pytest.mark.notebook
+def playground_paths(name: str) -> tuple[Path, str, Path]:
+    """(notebook, its path under notebooks/, the stem of its screenshots) of playground ``name``."""
+    notebook = PLAYGROUNDS / f"{name}.ipynb"
+    rel = notebook.relative_to("notebooks").as_posix()
+    return notebook, rel, SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+
+
 def assert_no_error_output(page: Page) -> None:
     """After a playground's clicks: no cell of the notebook shows an error output."""
     state = page.evaluate(_STATE_JS)
@@ -320,9 +327,7 @@ def test_pacer_playground_answers_clicks(browser, lab):
     thumbnails (a pair "A over B"), invert it. Each click redraws a different result; no error output, no
     refusal in the message line. Screenshots after Run All, after the pair and after the inversion."""
     url, token, _ = lab
-    notebook = PLAYGROUNDS / "pacer.ipynb"
-    rel = notebook.relative_to("notebooks").as_posix()
-    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    notebook, rel, shots = playground_paths("pacer")
     seen: list[str] = []
 
     def interact(page: Page, run: LabRun) -> None:
@@ -408,9 +413,7 @@ def test_hj_playground_answers_clicks(browser, lab):
     and a human on the room figure. Each click redraws the figure; no error output, no refusal in the
     message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_hj.png)."""
     url, token, _ = lab
-    notebook = PLAYGROUNDS / "hj.ipynb"
-    rel = notebook.relative_to("notebooks").as_posix()
-    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    notebook, rel, shots = playground_paths("hj")
     seen: list[str] = []
 
     def interact(page: Page, run: LabRun) -> None:
@@ -477,9 +480,7 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
     then the Psi toggle. Each map click redraws a different result; no error output, no refusal in the
     message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_surenav.png)."""
     url, token, _ = lab
-    notebook = PLAYGROUNDS / "surenav.ipynb"
-    rel = notebook.relative_to("notebooks").as_posix()
-    shots = SCREENSHOTS / rel.replace("/", "__").replace(".ipynb", "")
+    notebook, rel, shots = playground_paths("surenav")
     targets = surenav_targets("smoke", smoke_data, smoke_artifacts)
     seen: list[str] = []
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import html
 import io
+import statistics
 import time
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
@@ -137,3 +138,13 @@ def array_png(image: np.ndarray, scale: int = 1) -> bytes:
     buf = io.BytesIO()
     imsave(buf, image, format="png")
     return buf.getvalue()
+
+
+def latency_line(label: str, times_ms: list[float], width: int = 28) -> str:
+    """One line of a playground benchmark: median, 90th percentile and maximum of interaction times (ms),
+    the figures issue 28's 1 s median is read against."""
+    if not times_ms:
+        return f"{label:{width}s} none"
+    p90 = statistics.quantiles(times_ms, n=10, method="inclusive")[-1] if len(times_ms) > 1 else times_ms[0]
+    return (f"{label:{width}s} median {statistics.median(times_ms):5.0f} ms   p90 {p90:5.0f} ms   "
+            f"max {max(times_ms):5.0f} ms   ({len(times_ms)})")
