@@ -28,7 +28,7 @@ from navlab.pacer.experiments import (
     window_oracle_method,
 )
 from navlab.pacer.terrain import load_terrain_bank
-from navlab.pacer.train import PHASE_DATASETS, load_model, train_phase
+from navlab.pacer.train import PHASE_DATASETS, PhaseRun, load_model, train_phase
 
 
 def with_data(params, target: str, street: float):
@@ -58,8 +58,8 @@ def main() -> None:
             P.model, dataclasses.replace(P.train, patience=args.epochs),
             [pacer_dataset(params, args.data, n, "train", bank) for n in names],
             [Subset(pacer_dataset(params, args.data, n, "val", bank), range(P.train.val_examples)) for n in names],
-            f"{args.out}/{target}_{args.epochs}_{args.street}", phase="phase3", epochs=args.epochs, seed=P.seed + 1,
-            context_pairs=P.data.n_pairs, init_from=committed, progress=False)
+            f"{args.out}/{target}_{args.epochs}_{args.street}",
+            PhaseRun("phase3", args.epochs, P.seed + 1, P.data.n_pairs, committed), progress=False)
         print(f"fine-tuned with {target} targets, street windows {args.street}: {time.perf_counter() - start:.0f} s")
         models[f"{target} targets"] = load_model(path)
     methods = {name: (pacer_method(m, base.pacer.data), True) for name, m in models.items()}

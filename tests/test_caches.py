@@ -22,7 +22,7 @@ import torch
 from navlab.core import fingerprint
 from navlab.core.fingerprint import LIB, code_fingerprint, imported_modules
 from navlab.core.io import DataError, folder_lock
-from navlab.pacer.train import train_phase
+from navlab.pacer.train import PhaseRun, train_phase
 from navlab.pipeline import dataset
 
 TESTS = Path(__file__).resolve().parent
@@ -96,8 +96,8 @@ def _train(cfg, out, epochs, **kw):
     from test_pacer_model import TinyTerrainSet
 
     model, train = cfg
-    return train_phase(model, train, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], out, phase="phase1",
-                       epochs=epochs, seed=0, progress=False, **kw)
+    return train_phase(model, train, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], out, PhaseRun("phase1",
+                       epochs=epochs, seed=0), progress=False, **kw)
 
 
 def test_fewer_epochs_give_the_shorter_model_and_resaving_gives_the_same_bytes(pacer_smoke, tmp_path):
@@ -125,13 +125,13 @@ def test_edited_training_code_retrains_instead_of_resuming(pacer_smoke, tmp_path
     script = """
         import dataclasses
         from navlab.core.params import load_params
-        from navlab.pacer.train import train_phase
+        from navlab.pacer.train import PhaseRun, train_phase
         from test_pacer_model import TinyTerrainSet
         p = load_params("smoke").pacer
         train = dataclasses.replace(p.train, examples_per_epoch=8, batch_size=4, threads=1, select_on="val_loss")
         for out in ("run", "fresh"):
-            train_phase(p.model, train, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], out, phase="phase1",
-                        epochs=1, seed=0, progress=False)
+            train_phase(p.model, train, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], out, PhaseRun("phase1",
+                        epochs=1, seed=0), progress=False)
     """
     run_copy(lib, script, tmp_path)
     rebuilt = (tmp_path / "run" / "model.pt").read_bytes()

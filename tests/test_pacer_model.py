@@ -16,6 +16,7 @@ from navlab.pacer.checkpoints import read_summary
 from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import build_model
 from navlab.pacer.train import (
+    PhaseRun,
     cosine_lr,
     epoch_draws,
     load_model,
@@ -135,7 +136,7 @@ def test_context_encoder_tells_the_preferred_patch_from_the_other(smoke):
 def test_early_stopping_keeps_the_best_validation_checkpoint(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke, lr=0.05, patience=2, lr_final_fraction=0.5)
     train, val = TinyTerrainSet(16), TinyTerrainSet(6, seed=1)
-    path = train_phase(smoke.model, cfg, [train], [val], tmp_path, phase="phase1", epochs=12, seed=0, progress=False)
+    path = train_phase(smoke.model, cfg, [train], [val], tmp_path, PhaseRun("phase1", epochs=12, seed=0), progress=False)
     log = np.loadtxt(tmp_path / "val_loss.tsv", skiprows=1, ndmin=2)
     summary = read_summary(tmp_path)
     best = int(np.argmin(log[:, 2]))
@@ -199,14 +200,14 @@ class KillAfter(torch.utils.data.Dataset):
 def test_resume_after_a_kill_matches_an_uninterrupted_run(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke)
     train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
-    whole = train_phase(smoke.model, cfg, [train], [val], tmp_path / "whole", phase="phase1", epochs=2, seed=0,
+    whole = train_phase(smoke.model, cfg, [train], [val], tmp_path / "whole", PhaseRun("phase1", epochs=2, seed=0),
                         progress=False)
     with pytest.raises(Killed):  # dies in the middle of epoch 2, after epoch 1's checkpoint
-        train_phase(smoke.model, cfg, [KillAfter(train, 12)], [val], tmp_path / "resumed", phase="phase1",
-                    epochs=2, seed=0, progress=False)
+        train_phase(smoke.model, cfg, [KillAfter(train, 12)], [val], tmp_path / "resumed", PhaseRun("phase1",
+                    epochs=2, seed=0), progress=False)
     assert (tmp_path / "resumed" / "checkpoint.pt").is_file() and not (tmp_path / "resumed" / "model.pt").exists()
-    resumed = train_phase(smoke.model, cfg, [train], [val], tmp_path / "resumed", phase="phase1", epochs=2,
-                          seed=0, progress=False)
+    resumed = train_phase(smoke.model, cfg, [train], [val], tmp_path / "resumed",
+                          PhaseRun("phase1", epochs=2, seed=0), progress=False)
     a, b = load_model(whole).state_dict(), load_model(resumed).state_dict()
     assert all(torch.equal(a[k], b[k]) for k in a)
     log = (tmp_path / "resumed" / "val_loss.tsv").read_text().splitlines()
@@ -231,7 +232,7 @@ class CountReads(torch.utils.data.Dataset):
 def test_validation_items_are_rendered_once_per_phase_and_weights_saved_in_standard_layout(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke, patience=10)
     val = CountReads(TinyTerrainSet(6, seed=1))
-    path = train_phase(smoke.model, cfg, [TinyTerrainSet(16)], [val], tmp_path, phase="phase1", epochs=3, seed=0,
+    path = train_phase(smoke.model, cfg, [TinyTerrainSet(16)], [val], tmp_path, PhaseRun("phase1", epochs=3, seed=0),
                        progress=False)
     assert read_summary(tmp_path)["epochs_run"] == 3 and val.reads == len(val)
     saved = torch.load(path, weights_only=False)["weights"]
@@ -241,12 +242,12 @@ def test_validation_items_are_rendered_once_per_phase_and_weights_saved_in_stand
 def test_phase_two_starts_from_phase_one_weights(smoke, tmp_path):
     cfg = tiny_train_cfg(smoke)
     train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
-    first = train_phase(smoke.model, cfg, [train], [val], tmp_path / "p1", phase="phase1", epochs=2, seed=0,
+    first = train_phase(smoke.model, cfg, [train], [val], tmp_path / "p1", PhaseRun("phase1", epochs=2, seed=0),
                         progress=False)
     slow = dataclasses.replace(cfg, lr=1e-6)
     second = train_phase(smoke.model, slow, [train, TinyTerrainSet(16, (2, 0, 1))], [val], tmp_path / "p2",
-                         phase="phase2", epochs=1, seed=0, init_from=first, progress=False)
-    fresh = train_phase(smoke.model, slow, [train], [val], tmp_path / "fresh", phase="phase2", epochs=1, seed=0,
+                         PhaseRun("phase2", epochs=1, seed=0, init_from=first), progress=False)
+    fresh = train_phase(smoke.model, slow, [train], [val], tmp_path / "fresh", PhaseRun("phase2", epochs=1, seed=0),
                         progress=False)
     w1, w2, w0 = (dict(load_model(p).named_parameters()) for p in (first, second, fresh))
     moved_from_phase1 = max((w2[k] - w1[k]).abs().max().item() for k in w1)

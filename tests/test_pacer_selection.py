@@ -15,7 +15,7 @@ from navlab.pacer.checkpoints import read_summary
 from navlab.pacer.context import chain_pairs
 from navlab.pacer.map_windows import METRICS, MapWindow, map_windows, window_counts, window_scores
 from navlab.pacer.preferences import IGNORE, implied_pairs
-from navlab.pacer.train import improves, run_key, train_phase
+from navlab.pacer.train import PhaseRun, Selection, improves, run_key, train_phase
 from test_pacer_model import TinyTerrainSet
 
 
@@ -123,10 +123,10 @@ def test_training_selects_the_epoch_of_best_map_window_score(tmp_path):
     windows = _tiny_windows(6)
     train, val = TinyTerrainSet(16), TinyTerrainSet(4, seed=1)
     with pytest.raises(ValueError, match="needs validation map windows"):
-        train_phase(smoke.model, cfg, [train], [val], tmp_path / "none", phase="phase1", epochs=1, seed=0,
+        train_phase(smoke.model, cfg, [train], [val], tmp_path / "none", PhaseRun("phase1", epochs=1, seed=0),
                     progress=False)
-    train_phase(smoke.model, cfg, [train], [val], tmp_path, phase="phase1", epochs=4, seed=0, progress=False,
-                select_windows=windows)
+    train_phase(smoke.model, cfg, [train], [val], tmp_path, PhaseRun("phase1", epochs=4, seed=0), progress=False,
+                selection=Selection(windows))
     log = np.loadtxt(tmp_path / "val_loss.tsv", skiprows=1, ndmin=2)
     summary = read_summary(tmp_path)
     best = max(range(len(log)), key=lambda k: (log[k, 3], -log[k, 2]))

@@ -19,7 +19,7 @@ from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import pacer_dataset
 from navlab.pacer.map_windows import map_windows
 from navlab.pacer.terrain import load_terrain_bank
-from navlab.pacer.train import PHASE_DATASETS, PHASES, resolve_device, train_phase
+from navlab.pacer.train import PHASE_DATASETS, PHASES, PhaseRun, Selection, resolve_device, train_phase
 
 
 def phase_dir(artifacts_dir: str | Path, phase: str) -> Path:
@@ -46,11 +46,11 @@ def _train(phase: str):
             [pacer_dataset(params, data_dir, n, "train", bank) for n in names],
             [Subset(ds, range(min(params.pacer.train.val_examples, len(ds))))
              for ds in (pacer_dataset(params, data_dir, n, "val", bank) for n in names)],
-            phase_dir(artifacts_dir, phase), phase=phase, epochs=getattr(params.pacer.train.epochs, phase),
-            seed=params.pacer.seed, context_pairs=params.pacer.data.n_pairs,
-            init_from=phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
+            phase_dir(artifacts_dir, phase),
+            PhaseRun(phase, getattr(params.pacer.train.epochs, phase), params.pacer.seed, params.pacer.data.n_pairs,
+                     phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None),
             inputs=files_fingerprint(require(data_dir, "raw", "terrain")),
-            select_windows=selection_windows(params, data_dir, bank), cost_scale=params.pacer.evaluation.cost_scale,
+            selection=Selection(selection_windows(params, data_dir, bank), params.pacer.evaluation.cost_scale),
         )
     return step
 

@@ -185,42 +185,61 @@ def cosine_lr(step: int, total: int, lr: float, final_fraction: float) -> float:
     return lr * (final_fraction + (1.0 - final_fraction) * 0.5 * (1.0 + np.cos(np.pi * progress)))
 
 
+@dataclasses.dataclass(frozen=True)
+class PhaseRun:
+    """Which phase ``train_phase`` trains: its name (it keys the epoch draws and the checkpoint), the most
+    epochs, the seed (of phase 1's initialisation and of every draw), the context's pair count and the
+    weights it starts from (the previous phase's ``model.pt``; None: fresh)."""
+
+    phase: str
+    epochs: int
+    seed: int
+    context_pairs: int = 3
+    init_from: str | Path | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class Selection:
+    """What ``pacer.train.select_on: map_windows`` scores each epoch on: fixed validation map windows, at
+    the planner's ``cost_scale`` (per-metre cost 1 + cost_scale x c)."""
+
+    windows: Sequence[MapWindow] = ()
+    cost_scale: float = 10.0
+
+
 def train_phase(
     model_cfg: PacerModelParams,
     train_cfg: PacerTrainParams,
     train_sets: Sequence[Dataset],
     val_sets: Sequence[Dataset],
     out_dir: str | Path,
+    run: PhaseRun,
     *,
-    phase: str,
-    epochs: int,
-    seed: int,
-    context_pairs: int = 3,
-    init_from: str | Path | None = None,
     inputs: Any = None,
     progress: bool = True,
-    select_windows: Sequence[MapWindow] = (),
-    cost_scale: float = 10.0,
+    selection: Selection = Selection(),
 ) -> Path:
     """Train one phase into ``out_dir`` (resuming its checkpoint if it matches) and return ``model.pt``.
 
-    Up to ``epochs`` epochs with the learning rate decayed by a cosine over all of them; after every
+    Up to ``run.epochs`` epochs with the learning rate decayed by a cosine over all of them; after every
     epoch the validation loss (and, with ``train_cfg.select_on`` map_windows, the selection score on
-    ``select_windows`` at the planner's ``cost_scale``) is measured and the best weights (``improves``)
+    ``selection``'s windows at the planner's cost scale) is measured and the best weights (``improves``)
     are kept; training stops early once they have not improved for ``train_cfg.patience`` epochs. ``model.pt`` holds the best
     weights, ``summary.json`` the best epoch, its validation loss and the entropy floor of the
     validation targets (the lowest loss any model can reach, :func:`navlab.pacer.loss.entropy_floor`).
     ``inputs``: a fingerprint of the files the datasets read (part of the run key).
     """
     out_dir = Path(out_dir)
+    phase, epochs, seed, context_pairs = run.phase, run.epochs, run.seed, run.context_pairs
+    select_windows, cost_scale = selection.windows, selection.cost_scale
     if train_cfg.select_on not in SELECT_ON:
         raise ValueError(f"pacer.train.select_on = {train_cfg.select_on!r}: allowed values are {', '.join(SELECT_ON)}")
     if train_cfg.select_on == "map_windows" and not select_windows:
         raise ValueError(f"{phase}: pacer.train.select_on = 'map_windows' needs validation map windows "
-                         "(select_windows=, navlab.pacer.map_windows.map_windows); or select on val_loss")
+                         "(selection=Selection(windows), navlab.pacer.map_windows.map_windows); or select on val_loss")
     device = resolve_device(train_cfg.device)
     torch.set_num_threads(train_cfg.threads)
-    init_from = Path(init_from) if init_from is not None else None
+    init_from = Path(run.init_from) if run.init_from is not None else None
     initial = load_model(init_from, device) if init_from is not None else None  # missing/corrupt: says so first
     sizes = [len(ds) for ds in train_sets]
     select = train_cfg.select_on == "map_windows"
