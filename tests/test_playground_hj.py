@@ -208,3 +208,21 @@ def test_missing_artefacts_name_the_command(smoke_params, hj_artifacts, tmp_path
 def test_snapshot_is_a_png(view):
     assert view.snapshot().data[:8] == b"\x89PNG\r\n\x1a\n"
     assert np.isfinite(view.playground.slice_fields().ttr).all()
+
+
+def test_static_brt_in_3d_is_a_meshcat_scene_of_the_room(view, monkeypatch):
+    """The button puts the room's static BRT at the slice speed in a meshcat page (an iframe) under it; a
+    second speed gives another scene; a room without a static BRT is one line, and the scene stays."""
+    [button] = [b for b in view.widget.children if "navlab-show-scene" in getattr(b, "_dom_classes", ())]
+    button.click()
+    assert view.message.kind == "info", view.message.text
+    first = view.scene.value
+    assert first.startswith("<iframe srcdoc=") and "meshcat" in first.lower()
+    view.speed.value = 0.0
+    button.click()
+    assert view.scene.value != first
+    monkeypatch.setattr(view.playground, "brt_rooms", ())
+    view.speed.value = 0.25
+    button.click()
+    assert view.message.kind == "error" and "has no static BRT" in view.message.text
+    assert view.scene.value.startswith("<iframe srcdoc=")

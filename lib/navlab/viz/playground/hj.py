@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import html
 import math
 import tempfile
 import threading
@@ -47,6 +48,7 @@ from navlab.sim.hj_scenarios import ClosedLoop
 from navlab.sim.humans import StraightWalker
 from navlab.sim.receding_horizon import Run, Trip, run_patrol
 from navlab.viz.hj_closed_loop import patrol_gif
+from navlab.viz.hj_scenes import brt_scene_html
 from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure_bytes, one_line
 
 MODES = ("start", "goal", "human")
@@ -206,6 +208,7 @@ class HJPlayground:
         self.plans = Memo(self._plan)
         self.fields = Memo(self._fields, size=16)
         self.censuses = Memo(self._census, size=16)
+        self.scenes = Memo(self._scene, size=4)
 
     @classmethod
     def load(cls, profile: str, artifacts_dir: str | Path) -> HJPlayground:
@@ -290,6 +293,11 @@ class HJPlayground:
     def census(self) -> Census:
         s = self._chosen()
         return self.censuses(s, self.speed)
+
+    def brt_scene(self) -> str:
+        """Static meshcat HTML of the room's static BRT at the slice speed, in 3D: the zero level set over
+        (x, y, θ) with θ as height (the scene notebook 00 writes, for the room and speed chosen here)."""
+        return self.scenes(self._chosen().room, self.speed)
 
     def describe(self) -> str:
         s, out = self._chosen(), self.plan()
@@ -430,6 +438,12 @@ class HJPlayground:
                         human=human, anytime=anytime, table=self.table,
                         max_expansions=p.anastar_max_expansions if anytime else p.astar_max_expansions)
         return PlanOutcome(result, plan_clearance(room, self.robot.radius_m, self.loop.spec, result))
+
+    def _scene(self, room_name: str, speed: float) -> str:
+        if room_name not in self.brt_rooms:
+            raise UserError(f"room {room_name} has no static BRT (hj.grids.rooms: {', '.join(self.brt_rooms)})")
+        brt = load_static_brt(self.params, self.artifacts_dir, room_name)
+        return brt_scene_html(self.rooms(room_name), np.asarray(brt.stored.values), brt.grid, speed)
 
     def _fields(self, room_name: str, goal, heading_deg: float, speed: float, humans, heuristic: str) -> Fields:
         room = self.rooms(room_name)
@@ -654,6 +668,8 @@ class HJView(PlaygroundView):
         self.summary.add_class("navlab-summary")
         self.replay = widgets.Image(format="gif", layout=widgets.Layout(width="560px"))
         self.replay.add_class("navlab-replay")
+        self.scene = widgets.HTML()  # the meshcat scene, in an iframe (its own page: three.js, no kernel link)
+        self.scene.add_class("navlab-scene")
         loop = widgets.HBox([self.seconds, self._plain_button("run closed loop", self.run_loop, "navlab-run"),
                              self._plain_button("stop", self.stop, "navlab-stop")])
         self.widget = widgets.VBox([
@@ -661,7 +677,8 @@ class HJView(PlaygroundView):
                           self.button("clear humans", p.clear_humans, css="navlab-clear-humans")]),
             widgets.HBox([self.heading, self.human_heading, self.speed]),
             widgets.HBox(list(self.options.values())),
-            self.message.widget, self.result, self.summary, loop, self.replay])
+            self.message.widget, self.result, self.summary, loop, self.replay,
+            self.button("static BRT in 3D (meshcat)", self.show_scene, css="navlab-show-scene"), self.scene])
         if scenario is not None:
             self.start(scenario)
 
@@ -736,6 +753,12 @@ class HJView(PlaygroundView):
         self.replay.value = replay.gif
         self.message.show(f"closed loop: {replay.outcome}; its playback is below "
                           f"({time.perf_counter() - began:.1f} s to simulate and render)")
+
+    def show_scene(self) -> None:
+        """The room's static BRT at the slice speed as a meshcat scene (drag to turn it) below the button."""
+        doc = self.playground.brt_scene()
+        self.scene.value = (f'<iframe srcdoc="{html.escape(doc)}" style="width: 100%; height: 440px; border: 0">'
+                            "</iframe>")
 
     def _forward(self, action, *args) -> None:
         if not self._syncing:
