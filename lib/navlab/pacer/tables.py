@@ -1,0 +1,149 @@
+"""PACER's Tables I-V and the context-following table as report tables: rows, the paper's, notes, claims.
+
+The notebooks only run the models through the protocol and hand the results here; what the notes say
+and which of the paper's claims hold (``claims``) are decided in this module, as ``surenav.tables``
+does for SuReNav.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from navlab.core.params.pacer import PacerParams
+from navlab.metrics.tables import Table
+from navlab.pacer.claims import (
+    PAPER,
+    Claim,
+    agreement_against_target,
+    gap_closed,
+    margin_ranking_claims,
+    phase1_cannot_follow_inverted,
+    seen_claims,
+    synthetic_generalises_best,
+    unseen_claims,
+)
+from navlab.pacer.experiments import (
+    AGREEMENT_COLUMNS,
+    NAVIGATION_COLUMNS,
+    PHASE_COLUMNS,
+    Agreement,
+    NavigationResult,
+    phase_rows,
+    protocol_note,
+)
+from navlab.pacer.recognition import RECOGNITION_COLUMNS, recognition_note
+
+UNIFORM, ORACLE, LIMITED = "Uniform costmap (chance)", "Window oracle (ceiling)", "Context-limited oracle"
+PREFERENCES = ("realistic", "inverted")
+MARGIN_COLUMNS = ["model", "test_real", "test_shuffled", "test_synthetic", "test_real_ci", "test_shuffled_ci",
+                  "test_synthetic_ci"]
+
+
+def _limited_oracle_note(pacer: PacerParams) -> str:
+    return (f"Context-limited oracle: each terrain costs its mean rank over every ordering of the map's terrains "
+            f"consistent with the context's {pacer.data.n_pairs} pairs (a perfect context-follower with no prior).")
+
+
+def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str) -> Claim:
+    """``claims.gap_closed`` of ``model``'s per-map low-tier share between the uniform costmap and the oracle."""
+    low = {m: s[:, 0] for m, s in shares.items() if s is not None}
+    return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys)
+
+
+def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mapping[str, object],
+                      pacer: PacerParams, profile: str) -> list[Table]:
+    """Tables I (seen) and II (unseen): low / medium / high tier shares of every method under the realistic
+    preference; ``classifier`` is the semantic classifier's ``summary.json``."""
+    setup = protocol_note(pacer.data, pacer.evaluation, profile)
+    classifier_note = (f" Classifier: best of {classifier['epochs']} epochs by held-out patch accuracy, "
+                       f"{classifier['val_accuracy']:.3f} on D_real validation patches "
+                       f"(epoch {classifier['best_epoch']}).")
+    seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic")]
+    unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic")]
+    notes1 = " ".join([setup + classifier_note + " " + _limited_oracle_note(pacer), *map(str, seen)])
+    notes2 = " ".join([setup, ("Classifier: null, a semantic classifier knows only the seen labels, so no preference "
+                               "over unseen terrain can be expressed to it (the paper omits it for the same reason)."),
+                       *map(str, unseen)])
+    return [Table("table1_seen", "PACER Table I", NAVIGATION_COLUMNS, results["seen"].rows, PAPER["table1_seen"],
+                  notes1, seen),
+            Table("table2_unseen", "PACER Table II", NAVIGATION_COLUMNS, results["unseen"].rows,
+                  PAPER["table2_unseen"], notes2, unseen)]
+
+
+def _context_following_notes(pacer: PacerParams, agreement: Mapping[tuple, Agreement],
+                             summaries: Mapping[str, dict]) -> str:
+    """What the context-following table measures and how (issues 14, 24), with the phase-3 agreement
+    against its target."""
+    d, e, t = pacer.data, pacer.evaluation, pacer.train
+    target = {(env, pref): (agreement["D_synthetic", env, pref, "superset"].fraction,
+                            agreement["D_synthetic", env, pref, "superset"].ci)
+              for env in ("seen", "unseen") for pref in PREFERENCES}
+    return (f"{e.heldout_examples} held-out BEV test items per set; agreement counts context pairs with "
+            "both terrains in view; intervals: bootstrap over items. in_view: the context's pairs are drawn from "
+            f"the terrains in view; superset: from those plus {d.context_extra} others of the same group, every "
+            "terrain in view named (as at deployment, and as the released code draws 3 pairs from a whole 6-class "
+            f"ordering). Training contexts: {d.train_context}. Validation rows: the best epoch's masked BCE "
+            "beside the entropy of the soft targets (a lower bound; with superset contexts it is out of reach where the "
+            f"{d.n_pairs} pairs leave the order of two terrains in view open). Differences from the "
+            "released code: phase 2 uses random permutations as the paper's text says (the code only inverts), and "
+            "synthetic contexts are cut from other photographs of the synthetic terrain, never from the texture "
+            "pasted into the image. The small profiles' context encoder pools the preferred and the other half of "
+            "every pair separately (the released ResNet-50 pools the stacked pair as one image; `paper` keeps that), "
+            "and they add a texture matcher the paper's network does not have: one conv tower shared by the image "
+            "and the context patches gives the decoder, per location, how much it resembles the preferred versus "
+            "the other patches (`pacer.model.match_channels`; `paper` keeps the released concat-MLP fusion alone). "
+            f"{agreement_against_target(target, summaries['D_synthetic'])}. "
+            f"Map windows: {e.heldout_examples} {d.image_size}-px windows per set of street maps of "
+            "SuReNav's val split (training geography, never the test tiles the tables' maps are cut from), painted "
+            f"and rendered as the aerial maps are, field of view applied, with the map's {d.n_pairs}-pair context; "
+            "all_pairs: every pair of distinct terrains in view ordered right by mean predicted cost (`pairs`), "
+            "decided / open: the pairs the context implies by transitivity / leaves open; auc: chance a pixel of the "
+            "preferred terrain of a pair is cheaper than one of the other; tier_ratio: mean cost per metre "
+            f"(1 + {e.cost_scale:g}c) of the medium and high tiers over the low tier's; intervals: bootstrap "
+            f"over windows. Checkpoints selected on: {t.select_on} (map_windows: the best pixel-pair AUC on "
+            f"{t.select_windows} validation windows of other seeds, `best_select_score`). Chain rows: low-tier "
+            "share of D_synthetic on the tables' held-out maps and crossings with a chain context (consecutive pairs of "
+            "the map's ordering over 4 of its terrains) against the tables' random-pair context, paired bootstrap over maps. "
+            + recognition_note(d))
+
+
+def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement: Mapping[tuple, Agreement],
+                 agreement_rows: Sequence[dict], margin_rows: Sequence[dict], summaries: Mapping[str, dict],
+                 pacer: PacerParams, profile: str) -> list[Table]:
+    """Tables III (seen) and IV (unseen): each training phase's tier shares under both preferences; Table V:
+    margin ranking error on each training set's test split; ``context_following``: held-out agreement and
+    the map-window metrics. ``results`` by (environment, preference), ``agreement`` by (model, environment,
+    preference, context draw), ``summaries`` by model in phase order (each phase's ``summary.json``)."""
+    setup = protocol_note(pacer.data, pacer.evaluation, profile)
+
+    def low(env: str, pref: str, model: str) -> np.ndarray:
+        return results[env, pref].shares[model][:, 0]
+
+    def gaps(env: str) -> list[Claim]:
+        return [_gap(results[env, pref].shares, model, env, pref) for pref in PREFERENCES
+                for model in ("D_synthetic", LIMITED)]
+
+    inverted = agreement["D_real", "seen", "inverted", "superset"]
+    phase1 = phase1_cannot_follow_inverted((inverted.fraction, inverted.ci), low("seen", "inverted", "D_real"),
+                                           low("seen", "inverted", "D_synthetic"))
+    synthetic = synthetic_generalises_best({m: np.concatenate([low("unseen", p, m) for p in PREFERENCES])
+                                            for m in summaries})
+    rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
+    seen, unseen = [phase1, *gaps("seen")], [synthetic, *gaps("unseen")]
+    margin = margin_ranking_claims(margin_rows)
+    notes3 = f"{setup} {_limited_oracle_note(pacer)} " + " ".join(map(str, seen))
+    notes4 = f"{setup} " + " ".join(map(str, unseen))
+    notes5 = (f"{pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
+              "points each (pairs of equal rank count any cost difference as error); intervals: bootstrap over items. "
+              + " ".join(map(str, margin)))
+    return [Table("table3_phases_seen", "PACER Table III", PHASE_COLUMNS, rows["seen"],
+                  PAPER["table3_phases_seen"], notes3, seen),
+            Table("table4_phases_unseen", "PACER Table IV", PHASE_COLUMNS, rows["unseen"],
+                  PAPER["table4_phases_unseen"], notes4, unseen),
+            Table("table5_margin_ranking", "PACER Table V", MARGIN_COLUMNS, list(margin_rows),
+                  PAPER["table5_margin_ranking"], notes5, margin),
+            Table("context_following", "ours (issues 14, 24): held-out preference agreement and map-window metrics",
+                  [*AGREEMENT_COLUMNS, *RECOGNITION_COLUMNS], list(agreement_rows), PAPER["context_following"],
+                  _context_following_notes(pacer, agreement, summaries))]
