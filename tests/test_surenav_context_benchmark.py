@@ -14,11 +14,11 @@ from navlab.graphs.region_graph import superpixel_graph
 from navlab.maps.network import WalkableNetwork
 from navlab.maps.semantic_map import SemanticMap
 from navlab.maps.tiles import Tile
-from navlab.surenav.context.benchmark import label_table_cost, oracle_cost
+from navlab.surenav.context.benchmark import label_table_cost, oracle_cost, run_name
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
 from navlab.surenav.context.tiles import split_tiles
-from navlab.surenav.context.training import demo_sample, feature_runs
+from navlab.surenav.context.training import EstimatorRun, demo_sample, estimator_runs
 from navlab.surenav.demo_priors import DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
 from navlab.surenav.experts.environments import Demonstration
 from navlab.surenav.experts.store import MapDemos
@@ -150,9 +150,13 @@ def test_demo_sample_targets_the_soft_nodes_the_demonstration_entered(town):
         assert sample.target.any() and np.all(sample.data.soft.numpy()[sample.target])
 
 
-def test_feature_runs_train_the_main_input_on_every_seed_and_the_other_on_the_ablation_seeds():
-    runs = feature_runs("context", load_params("default").surenav.train)
-    assert runs == {"context": (0, 1, 2), "labels": (0,)}
+def test_estimator_runs_train_the_main_run_on_every_seed_and_each_ablation_on_the_ablation_seeds():
+    s = load_params("default").surenav
+    runs = estimator_runs(s.demos.context, s.train)
+    assert runs == {EstimatorRun("context", "blackbox"): (0, 1, 2), EstimatorRun("labels", "blackbox"): (0,),
+                    EstimatorRun("context", "straight_through"): (0,)}
+    assert [run_name(r, "context", "blackbox") for r in runs] == [
+        "SuReNav", "SuReNav, labels input (ablation)", "SuReNav, straight-through gradient (the paper's training; ablation)"]
 
 
 def _split(split: str, name: str) -> tuple[SemanticMap, MapDemos]:

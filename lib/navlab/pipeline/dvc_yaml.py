@@ -69,9 +69,10 @@ _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
 _PACER_NB = ("pacer",)
 _GPS = ("artifacts/surenav/gps", "artifacts/surenav/mpnn")
 _CONTEXT_DEMOS = "artifacts/surenav/context_demos"  # issue 25's context benchmark (navlab.surenav.context)
-_CONTEXT_GPS = ("artifacts/surenav/context_gps", "artifacts/surenav/context_labels")
+_CONTEXT_GPS = ("artifacts/surenav/context_estimators",)
 _CONTEXT_DRAW = tuple(f"surenav.demos.context.{k}"
                       for k in ("seed", "test_pairs_per_map", "train_pairs_per_map", "val_tiles", "max_train_tiles"))
+_CONTEXT_TRAIN = ("surenav.demos.context.node_features", "surenav.demos.context.estimator")
 _FIG = "reports/{}/figures/"
 _MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
 # The index's outputs, committed to git (cache: false): the results page and its figure copies, so GitHub shows them.
@@ -124,10 +125,10 @@ STAGES: tuple[Stage, ...] = (
     _artifact("surenav_context_demos", ("data.maps", "data.demos", "surenav.graph", *_CONTEXT_DRAW), ("data",),
               (_CONTEXT_DEMOS,)),
     _artifact("surenav_context_estimator", ("surenav.graph", "surenav.model", "surenav.train",
-                                            "surenav.demos.context.node_features"), (_CONTEXT_DEMOS,), _CONTEXT_GPS,
+                                            *_CONTEXT_TRAIN), (_CONTEXT_DEMOS,), _CONTEXT_GPS,
               persist=True),
     _notebook("surenav_05_context_benchmark", "notebooks/surenav/05_context_benchmark.ipynb",
-              (*_SURENAV_RUN, "surenav.demos.context.node_features"), (_CONTEXT_DEMOS, *_CONTEXT_GPS),
+              (*_SURENAV_RUN, *_CONTEXT_TRAIN), (_CONTEXT_DEMOS, *_CONTEXT_GPS),
               metrics=("reports/surenav/table1_context.json",)),
     _artifact("hj_grids", ("hj.grids",), (), ("artifacts/hj",), persist=True),
     _artifact("hj_margins", ("hj.grids", "hj.planner.brt_margin_refine"), ("artifacts/hj",), (_MARGINS,),

@@ -7,8 +7,9 @@ environments, redrawn by the context demonstrator). Every method walks Table I's
 Rows:
 
 - ``SuReNav``: the ``surenav_context_estimator`` GPS estimator (``surenav.demos.context.node_features``
-  input, every training seed; per environment the mean over seeds), and its input ablation (the other
-  feature set, the first ``train.ablation_seeds`` seeds);
+  input and ``estimator.gradient``, every training seed; per environment the mean over seeds), and its
+  two ablations (the other feature set, and the other gradient through the A*: the first
+  ``train.ablation_seeds`` seeds each; ``training.estimator_runs``);
 - SuReNav's executor with three non-learned Psi: the *label-table* Psi ((per-label cost - 1) x
   sqrt(area), the per-label demonstrator's personas' mean costs: fixed regional costs, the control the
   paper's claim is about), the *oracle-set* Psi (0 on soft regions holding a cell the demonstration
@@ -68,7 +69,13 @@ from navlab.surenav.benchmark import (
 from navlab.surenav.context.dataset import load_context_demos, load_index, stored_environments
 from navlab.surenav.context.measure import FieldChoice, select_field
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
-from navlab.surenav.context.training import FOLDERS, context_cost, context_model_path, feature_runs
+from navlab.surenav.context.training import (
+    GRADIENTS,
+    EstimatorRun,
+    context_cost,
+    context_model_path,
+    estimator_runs,
+)
 from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.demo_priors import DSTAR, class_order, dstar_note, dstar_readings, label_traversal
 from navlab.surenav.episodes import Environment
@@ -79,6 +86,15 @@ from navlab.surenav.windows import PlanningWindow, prior_hard
 
 SURENAV = "SuReNav"
 ABLATION = "SuReNav, {} input (ablation)"
+GRADIENT_NOTES = {  # how each gradient's run trains (``training._schedule``), formatted with e = the estimator params
+    "straight_through": ("the paper's: Neural A*'s straight-through selection softmax, with surenav.train's lr, epochs "
+                         "and early stopping"),
+    "blackbox": ("Vlastelica et al. 2020: the plan's change under a second exact A* at Psi + {e.lambda_m:g} m x dL/dy "
+                 "gives the gradient; {e.epochs} epochs on a cosine schedule from lr {e.lr:g}, the best validation "
+                 "epoch kept"),
+}
+GRADIENT_ABLATION = {"straight_through": "SuReNav, straight-through gradient (the paper's training; ablation)",
+                     "blackbox": "SuReNav, blackbox gradient (ablation)"}
 LABEL_PSI = "SuReNav with label-table Psi"
 ORACLE_PSI = "SuReNav with oracle-set Psi"
 RULE_PSI = "SuReNav with rule Psi"
@@ -127,6 +143,13 @@ def best_field(params: Params, artifacts_dir: str | Path) -> FieldChoice:
                         s.benchmark, s.graph)
 
 
+def run_name(run: EstimatorRun, features: str, gradient: str) -> str:
+    """The row of an estimator run, given the main input and gradient."""
+    if run == (features, gradient):
+        return SURENAV
+    return ABLATION.format(run.features) if run.features != features else GRADIENT_ABLATION[run.gradient]
+
+
 def methods(params: Params, artifacts_dir: str | Path, field: FieldChoice
             ) -> tuple[dict[str, Callable[[Environment, PlanningWindow], Policy]], list[str]]:
     """(run name -> policy factory per environment and planning window, methods in report order). Loads
@@ -138,12 +161,10 @@ def methods(params: Params, artifacts_dir: str | Path, field: FieldChoice
     traversal = label_traversal([md for _, md in train], [smap for smap, _ in train])
     label_field = field.costs[LABEL_TABLE_FIELD]
     runs: dict[str, Callable[[Environment, PlanningWindow], Policy]] = {}
-    main = ctx.node_features
-    ablation = ABLATION.format(next(f for f in FOLDERS if f != main))
-    for features, seeds in feature_runs(main, s.train).items():
-        name = SURENAV if features == main else ablation
+    for run, seeds in estimator_runs(ctx, s.train).items():
+        name = run_name(run, ctx.node_features, ctx.estimator.gradient)
         for seed in seeds:
-            make = context_cost(artifacts_dir, features, seed)
+            make = context_cost(artifacts_dir, run, seed)
             runs[seed_run(name, seed)] = lambda env, w, make=make: SuReNavPolicy(make(), mode, margin * w.scale)
     runs[LABEL_PSI] = lambda env, w: SuReNavPolicy(label_table_cost(label_field), mode, margin * w.scale)
     runs[ORACLE_PSI] = lambda env, w: SuReNavPolicy(oracle_cost(relaxed_window(env, w)), mode, margin * w.scale)
@@ -231,11 +252,11 @@ def _mix_note(mix: dict) -> str:
 def training_note(artifacts_dir: str | Path, params: Params) -> str:
     """Per training run: epochs run, the best epoch and its validation plan IoU, and the train IoU there."""
     parts = []
-    for features, seeds in feature_runs(params.surenav.demos.context.node_features, params.surenav.train).items():
+    for run, seeds in estimator_runs(params.surenav.demos.context, params.surenav.train).items():
         for seed in seeds:
-            rows = read_log(context_model_path(artifacts_dir, features, seed).parent / "log.tsv")
+            rows = read_log(context_model_path(artifacts_dir, run, seed).parent / "log.tsv")
             best = max(rows, key=lambda r: r["val_iou"])
-            parts.append(f"{features} seed {seed}: {len(rows)} epochs, best {best['epoch']} (val IoU "
+            parts.append(f"{run.features} input, {run.gradient} seed {seed}: {len(rows)} epochs, best {best['epoch']} (val IoU "
                          f"{best['val_iou']:.3f}, train IoU {best['train_iou']:.3f})")
     return "Training (graph-level plan IoU on the validation / a fifth of the training demonstrations): " + \
         "; ".join(parts) + "."
@@ -249,8 +270,10 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
     settings = s.benchmark
     rows = table1_rows(outcomes, methods_, settings)
     found = claims(outcomes, settings.seed, settings.bootstrap_samples)
-    ablation = next((m for m in methods_ if m.startswith("SuReNav, ")), None)
-    extras = [(SURENAV, ablation), (RULE_PSI, FIELD), (EXPERT, FIELD), (SURENAV, ORACLE_PSI)]
+    ctx = s.demos.context
+    ablations = [run_name(run, ctx.node_features, ctx.estimator.gradient) for run in estimator_runs(ctx, s.train)][1:]
+    other = next(g for g in GRADIENTS if g != ctx.estimator.gradient)
+    extras = [*((SURENAV, a) for a in ablations), (RULE_PSI, FIELD), (EXPERT, FIELD), (SURENAV, ORACLE_PSI)]
     deltas = []
     for a, b in extras:
         if a in methods_ and b in methods_:
@@ -265,10 +288,14 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
          "as the maps step cuts them, disjoint from the test tiles; no procedural maps), "
          f"{s.demos.context.train_pairs_per_map} demonstrations per tile (surenav_context_demos)."),
         _mix_note(index["mix"]),
-        (f"{SURENAV}: the GPS estimator of surenav_context_estimator (surenav_estimator's recipe and parameters) with "
-         f"node input '{s.demos.context.node_features}' (context: Eq. 7 + RWSE + log area, log patch area, by a "
-         "sidewalk, crossing point, on the walkway, beside a new obstacle); each environment's value is the mean over "
-         f"seeds; *_seed_sd is the spread of the per-seed means. {ablation}: the other node input."),
+        (f"{SURENAV}: the GPS estimator of surenav_context_estimator (surenav_estimator's architecture and Eq. 12-14 "
+         f"loss) with node input '{ctx.node_features}' (context: Eq. 7 + RWSE + log area, log patch area, by a "
+         f"sidewalk, crossing point, on the walkway, beside a new obstacle), trained with the {ctx.estimator.gradient} "
+         f"gradient through the A* ({GRADIENT_NOTES[ctx.estimator.gradient].format(e=ctx.estimator)}); each "
+         "environment's value is the mean over seeds; *_seed_sd is the spread of the per-seed means. Ablations: "
+         f"{ablations[0]}: the other node input; {ablations[1]}: the other gradient "
+         f"({GRADIENT_NOTES[other].format(e=ctx.estimator)}). The main row's gradient "
+         "was chosen on the validation demonstrations' plan IoU, never on the test tiles."),
         trained,
         (f"{LABEL_PSI}: Psi = (cost per metre - 1) x sqrt(area) with the per-label demonstrator's personas' mean costs "
          f"(fixed regional costs). {ORACLE_PSI}: 0 on soft regions holding a demonstrated cell, "

@@ -11,11 +11,21 @@ differentiable graph A*, AdamW, early stopping on the validation plan IoU, ``tra
 - the node input is ``surenav.demos.context.node_features`` (``features``): "context" adds the rules'
   context per node.
 
-The loop is ``train.train_estimator``'s, without its mid-run resume (a run is a couple of minutes);
-``model.pt`` is kept when its key (code, parameters, samples, seed) matches. Folders:
-``artifacts/surenav/context_gps/seed<k>/`` (context features, every ``train.seeds``) and
-``artifacts/surenav/context_labels/seed<k>/`` (the old input, the first ``train.ablation_seeds``: the
-ablation that measures what the features add), each with ``model.pt`` and ``log.tsv``.
+and one of training:
+
+- the gradient through the A* (``surenav.demos.context.estimator.gradient``): ``straight_through``
+  is the paper's (Neural A*'s selection softmax) on ``surenav.train``'s schedule (lr, epochs, early
+  stopping); ``blackbox`` (``surenav.blackbox``, Vlastelica et al. 2020) trains ``estimator.epochs``
+  on a cosine schedule from ``estimator.lr`` and keeps the best validation epoch. On the validation
+  demonstrations the straight-through estimator fits no better than it generalises (plan IoU 0.53 train
+  and validation) while the rule Psi its input expresses scores 0.63; blackbox reaches 0.69 on training
+  and 0.57 on validation (seed 0; ``benchmarks/README.md``).
+
+The loop is ``train.train_estimator``'s, without its mid-run resume (a run is a few minutes);
+``model.pt`` is kept when its key (code, parameters, samples, seed) matches. Runs (``estimator_runs``):
+the main (input, gradient) on every ``train.seeds``, the other input and the other gradient each on the
+first ``train.ablation_seeds`` (the ablations that measure what the features and the gradient add), in
+``artifacts/surenav/context_estimators/<input>_<gradient>/seed<k>/`` with ``model.pt`` and ``log.tsv``.
 """
 
 from __future__ import annotations
@@ -23,6 +33,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import torch
@@ -31,12 +42,14 @@ from navlab.core.fingerprint import code_fingerprint
 from navlab.core.io import DataError, atomic_path, sha256_json
 from navlab.core.labels import HARD_IDS, SOFT_IDS
 from navlab.core.params import Params
+from navlab.core.params.surenav_demos import ContextDemosParams, ContextEstimatorParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
 from navlab.graphs.incremental import update_graph
 from navlab.maps.semantic_map import SemanticMap
 from navlab.sim.semi_static import window_graph
+from navlab.surenav.blackbox import estimator_blackbox_loss
 from navlab.surenav.context.dataset import load_context_demos
 from navlab.surenav.context.features import (
     FEATURE_SETS,
@@ -58,7 +71,18 @@ from navlab.surenav.train import (
 )
 from navlab.surenav.training_data import Sample, make_sample
 
-FOLDERS = {"context": "context_gps", "labels": "context_labels"}  # node_features -> artifacts/surenav/<folder>
+GRADIENTS = ("blackbox", "straight_through")
+
+
+class EstimatorRun(NamedTuple):
+    """One trained configuration: the node input (``FEATURE_SETS``) and the gradient (``GRADIENTS``)."""
+
+    features: str
+    gradient: str
+
+    @property
+    def folder(self) -> str:
+        return f"{self.features}_{self.gradient}"
 
 
 def demo_sample(smap: SemanticMap, demo: Demonstration, graph: GraphParams, model: EstimatorParams,
@@ -102,23 +126,36 @@ def _save(obj, path: Path) -> None:
         torch.save(obj, tmp)
 
 
+def _schedule(run: EstimatorRun, train: TrainParams, estimator: ContextEstimatorParams) -> TrainParams:
+    """``surenav.train`` as the run trains: the paper's schedule for straight-through, the blackbox one's
+    epochs and lr without early stopping (its cosine schedule keeps the best validation epoch) for blackbox."""
+    if run.gradient == "straight_through":
+        return train
+    return dataclasses.replace(train, epochs=estimator.epochs, lr=estimator.lr, patience=0)
+
+
 def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sample], model_params: EstimatorParams,
-                            train: TrainParams, node_features: str, out_dir: str | Path, *, seed: int) -> Path:
-    """``train.train_estimator``'s loop for a ``ContextEstimator`` (GPS); returns ``model.pt``."""
+                            train: TrainParams, run: EstimatorRun, estimator: ContextEstimatorParams,
+                            out_dir: str | Path, *, seed: int) -> Path:
+    """``train.train_estimator``'s loop for a ``ContextEstimator`` (GPS) with ``run``'s input and gradient;
+    returns ``model.pt``."""
     if not train_samples:
         raise DataError("no context training samples; build the surenav_context_demos stage")
     out_dir = Path(out_dir)
     torch.set_num_threads(train.threads)
+    train = _schedule(run, train, estimator)
     settings = {k: v for k, v in dataclasses.asdict(train).items() if k not in ("device", "threads", "seeds", "ablation_seeds")}
     key = sha256_json({"code": code_fingerprint(__name__), "model": dataclasses.asdict(model_params), "train": settings,
-                       "seed": seed, "features": node_features,
+                       "seed": seed, "run": run._asdict(), "lambda_m": estimator.lambda_m,
                        "inputs": [samples_key(train_samples), samples_key(val_samples)]})
     model_path = out_dir / "model.pt"
     if model_path.is_file() and torch.load(model_path, map_location="cpu", weights_only=False).get("key") == key:
         return model_path
     torch.manual_seed(seed)
-    model = ContextEstimator(model_params, True, FEATURE_SETS[node_features])
+    model = ContextEstimator(model_params, True, FEATURE_SETS[run.features])
     optimiser = torch.optim.AdamW(model.parameters(), lr=train.lr, weight_decay=train.weight_decay)
+    steps = train.epochs * -(-len(train_samples) // train.batch_size)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, steps) if run.gradient == "blackbox" else None
     rows: list[dict] = []
     best: dict = {"val_iou": -1.0, "epoch": 0, "weights": None}
     for epoch in range(train.epochs):
@@ -129,12 +166,17 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
         losses = []
         for lo in range(0, len(order), train.batch_size):
             chunk = [train_samples[i] for i in order[lo:lo + train.batch_size]]
-            result, v, target = plan_batch(model, chunk, train.temperature)
-            loss = training_loss(result, v, target, train)
+            if run.gradient == "blackbox":
+                loss, value = estimator_blackbox_loss(model, chunk, train, estimator.lambda_m)
+            else:
+                loss = training_loss(*plan_batch(model, chunk, train.temperature), train)
+                value = float(loss.detach())
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
-            losses.append(float(loss.detach()))
+            if schedule is not None:
+                schedule.step()
+            losses.append(value)
         val_loss, val_iou = evaluate(model, val_samples, train)
         train_iou = evaluate(model, train_samples[::TRAIN_IOU_STRIDE], train)[1]
         rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val_loss,
@@ -144,37 +186,44 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
                     "weights": {k: w.detach().clone() for k, w in model.state_dict().items()}}
         _write_log(rows, out_dir / "log.tsv")
     _save({**architecture(model), "weights": best["weights"], "best_epoch": best["epoch"], "key": key, "seed": seed,
-           "features": node_features, "log": rows}, model_path)
+           "features": run.features, "gradient": run.gradient, "log": rows}, model_path)
     return model_path
 
 
-def context_model_path(artifacts_dir: str | Path, features: str, seed: int) -> Path:
-    if features not in FOLDERS:
-        raise ValueError(f"node_features {features!r}: choose one of {', '.join(FOLDERS)}")
-    return Path(artifacts_dir, "surenav", FOLDERS[features], f"seed{seed}", "model.pt")
+def context_model_path(artifacts_dir: str | Path, run: EstimatorRun, seed: int) -> Path:
+    if run.features not in FEATURE_SETS or run.gradient not in GRADIENTS:
+        raise ValueError(f"estimator run {tuple(run)}: choose node_features from {', '.join(FEATURE_SETS)} and the "
+                         f"gradient from {', '.join(GRADIENTS)}")
+    return Path(artifacts_dir, "surenav", "context_estimators", run.folder, f"seed{seed}", "model.pt")
 
 
-def feature_runs(main: str, train: TrainParams) -> dict[str, tuple[int, ...]]:
-    """node_features -> training seeds: ``main`` on every seed, the other input on the first
-    ``ablation_seeds`` (the ablation)."""
-    other = next(f for f in FOLDERS if f != main)
-    return {main: tuple(train.seeds), other: tuple(train.seeds[:train.ablation_seeds])}
+def estimator_runs(context: ContextDemosParams, train: TrainParams) -> dict[EstimatorRun, tuple[int, ...]]:
+    """run -> training seeds: the main (input, gradient) on every seed; the other input and the other
+    gradient each on the first ``ablation_seeds`` (the ablations)."""
+    main = EstimatorRun(context.node_features, context.estimator.gradient)
+    ablation = tuple(train.seeds[:train.ablation_seeds])
+    other_input = next(f for f in FEATURE_SETS if f != main.features)
+    other_gradient = next(g for g in GRADIENTS if g != main.gradient)
+    return {main: tuple(train.seeds), main._replace(features=other_input): ablation,
+            main._replace(gradient=other_gradient): ablation}
 
 
 def build_context_estimators(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
     """Artefact step ``surenav_context_estimator`` (module docstring)."""
     s = params.surenav
-    for features, seeds in feature_runs(s.demos.context.node_features, s.train).items():
-        train = context_samples(artifacts_dir, "train", s.graph, s.model, features, s.train.max_demos)
-        val = context_samples(artifacts_dir, "val", s.graph, s.model, features, s.train.max_demos)
+    samples: dict[str, tuple[list[Sample], list[Sample]]] = {}
+    for run, seeds in estimator_runs(s.demos.context, s.train).items():
+        if run.features not in samples:
+            samples[run.features] = tuple(context_samples(artifacts_dir, split, s.graph, s.model, run.features,
+                                                          s.train.max_demos) for split in ("train", "val"))
         for seed in seeds:
-            train_context_estimator(train, val, s.model, s.train, features,
-                                    context_model_path(artifacts_dir, features, seed).parent, seed=seed)
+            train_context_estimator(*samples[run.features], s.model, s.train, run, s.demos.context.estimator,
+                                    context_model_path(artifacts_dir, run, seed).parent, seed=seed)
 
 
-def load_context_estimator(artifacts_dir: str | Path, features: str, seed: int) -> tuple[ContextEstimator, str]:
+def load_context_estimator(artifacts_dir: str | Path, run: EstimatorRun, seed: int) -> tuple[ContextEstimator, str]:
     """(trained estimator in eval mode, its node_features) of one run."""
-    path = context_model_path(artifacts_dir, features, seed)
+    path = context_model_path(artifacts_dir, run, seed)
     if not path.is_file():
         raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
                         "surenav_context_estimator`")
@@ -184,8 +233,8 @@ def load_context_estimator(artifacts_dir: str | Path, features: str, seed: int) 
     return model.eval(), saved["features"]
 
 
-def context_cost(artifacts_dir: str | Path, features: str, seed: int):
+def context_cost(artifacts_dir: str | Path, run: EstimatorRun, seed: int):
     """A factory of fresh ``EstimatorCost`` relaxation costs (one per episode: each tracks its own known
     hard space) from the trained estimator of one run, loaded once."""
-    model, features = load_context_estimator(artifacts_dir, features, seed)
+    model, features = load_context_estimator(artifacts_dir, run, seed)
     return lambda: EstimatorCost(model, features)
