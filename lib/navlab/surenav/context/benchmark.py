@@ -250,14 +250,17 @@ def _mix_note(mix: dict) -> str:
 
 
 def training_note(artifacts_dir: str | Path, params: Params) -> str:
-    """Per training run: epochs run, the best epoch and its validation plan IoU, and the train IoU there."""
+    """Per training run: epochs run, the best epoch and its validation plan IoU, the train IoU there, and
+    both IoUs at every epoch (the learning curves)."""
     parts = []
     for run, seeds in estimator_runs(params.surenav.demos.context, params.surenav.train).items():
         for seed in seeds:
             rows = read_log(context_model_path(artifacts_dir, run, seed).parent / "log.tsv")
             best = max(rows, key=lambda r: r["val_iou"])
             parts.append(f"{run.features} input, {run.gradient} seed {seed}: {len(rows)} epochs, best {best['epoch']} (val IoU "
-                         f"{best['val_iou']:.3f}, train IoU {best['train_iou']:.3f})")
+                         f"{best['val_iou']:.3f}, train IoU {best['train_iou']:.3f}; per epoch val "
+                         + " ".join(f"{r['val_iou']:.2f}" for r in rows) + ", train "
+                         + " ".join(f"{r['train_iou']:.2f}" for r in rows) + ")")
     return "Training (graph-level plan IoU on the validation / a fifth of the training demonstrations): " + \
         "; ".join(parts) + "."
 
