@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from navlab.hj.tables import PAPER_CALLS, table1, table2, table7
+from navlab.hj.tables import PAPER_CALLS, table1, table2, table5, table6, table7
 from navlab.metrics.hj_paper import PAPER
 from navlab.reach.planning import TaskResult
 
@@ -51,3 +51,50 @@ def test_table7_scales_the_papers_totals_to_our_call_count():
         assert ours["per_state_ns"] == pytest.approx(theirs["total_s"] / PAPER_CALLS / theirs["states"] * 1e9)
     assert "TTR (81, 81, 11, 36), BRT (97, 55, 11, 36)" in table.notes
     assert all(c in table.notes for c in table.claims) and len(table.claims) >= 2
+
+
+def test_table5_reads_its_pairs_and_budget_from_the_planner_params(smoke_params):
+    results = {m: RESULTS["A* w/ TTR"] for m in ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")}
+    table = table5(results, 0.0123, seed=0, planner=smoke_params.hj.planner)
+    t5 = smoke_params.hj.planner.table5
+    assert table.table_id == "table5_static_general" and [r["method"] for r in table.rows] == list(results)
+    assert table.notes.startswith(f"{t5.pairs} pairs drawn with seed hj.seed") and "BRT margin 0.0123" in table.notes
+    assert all(c in table.notes for c in table.claims)
+
+
+def closed_loop_row(method, scenario, success, collisions, time_s, time_all_s):
+    return {"method": method, "scenario": scenario, "success": success, "runs": 5, "collisions": collisions,
+            "contacts_on_plan": collisions, "time_s": time_s, "time_all_s": time_all_s, "detour_m": 2.0}
+
+
+def test_table6_decides_the_head_on_claim_and_quotes_the_speed(smoke_params):
+    rows = [closed_loop_row("FI-BRT", "Face-to-Face", 5, 0, 30.0, 30.0),
+            closed_loop_row("FS-BRT", "Face-to-Face", 2, 3, 28.0, 28.0),
+            closed_loop_row("OBS", "Face-to-Face", 0, 5, None, 25.0),
+            closed_loop_row("FI-BRT", "Zig-Zag", 5, 0, 40.0, 40.0),
+            closed_loop_row("FS-BRT", "Zig-Zag", 5, 0, 31.0, 31.0),
+            closed_loop_row("OBS", "Zig-Zag", 3, 2, 29.0, 29.0)]
+    speed = {"simulated_s": 300.0, "wall_s": 100.0, "cpu_s": 90.0, "plan_median_ms": 17.9}
+    table = table6(rows, smoke_params.hj.dynamic, "RULES.", speed)
+    assert table.claims[0].startswith("FI-BRT avoids the head-on collisions that FS-BRT and OBS do not (Face-to-Face): holds")
+    assert all(c.split(":")[1].strip().startswith("holds") for c in table.claims), table.claims
+    assert "RULES." in table.notes and "300 s simulated in 100 s wall" in table.notes and "(3.0x real time" in table.notes
+    assert all(c in table.notes for c in table.claims)
+
+
+@pytest.mark.parametrize("table_id", ["table6_dynamic", "table8_rooms", "table9_humans"])
+def test_the_committed_closed_loop_reports_state_the_claims_their_rows_decide(table_id, smoke_params):
+    """The verdicts in each committed closed-loop report are the ones ``hj.tables`` decides from its rows."""
+    import json
+    from pathlib import Path
+
+    from navlab.hj import tables
+
+    report = json.loads(Path("reports/hj", f"{table_id}.json").read_text())
+    speed = {"simulated_s": 1.0, "wall_s": 1.0, "cpu_s": 1.0, "plan_median_ms": 1.0}
+    build = {"table6_dynamic": lambda rows: tables.table6(rows, smoke_params.hj.dynamic, "", speed),
+             "table8_rooms": lambda rows: tables.table8(rows, smoke_params.hj.dynamic, "", speed, 1.0),
+             "table9_humans": lambda rows: tables.table9(rows, smoke_params.hj.dynamic, "", speed)}[table_id]
+    table = build(report["rows"])
+    assert table.claims and all(c in report["notes"] for c in table.claims)
+    assert table.columns == report["columns"]
