@@ -15,6 +15,8 @@ The benchmark built on it (issue 25, steps 2-4; stages ``surenav_context_demos``
 ``surenav_context_estimator``, notebook ``surenav/05_context_benchmark``): ``tiles`` cuts real training
 and validation tiles disjoint from the test tiles, ``dataset`` stores the demonstrations of every split
 and their relaxation mix, ``features`` gives the estimator the rules' context per node, ``training``
-trains it with ``surenav_estimator``'s recipe, ``benchmark`` runs every Table I row on the context
-environments and decides the claims (``reports/surenav/table1_context``).
+trains it (``surenav_estimator``'s architecture and Eq. 12-14 loss; the gradient through the A* by
+blackbox differentiation, ``surenav.blackbox``, with the paper's straight-through one as an ablation),
+``benchmark`` runs every Table I row on the context environments and decides the claims
+(``reports/surenav/table1_context``).
 """
