@@ -12,6 +12,8 @@ import os
 import sys
 from pathlib import Path
 
+import yaml
+
 from navlab.core.io import DataError, folder_lock
 from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
 from navlab.pipeline.steps import artifact_steps, data_steps
@@ -172,9 +174,36 @@ def _refuse_stale_resolved_params(args) -> None:
 
     root = repo_root()
     resolved = root / RESOLVED
-    if not resolved.is_file() or resolved.read_text(encoding="utf8") != render_resolved_params(root):
+    # compared as values: a queued DVC experiment's `-S` (navlab.pipeline.experiments) rewrites the file's text
+    if not resolved.is_file() or yaml.safe_load(resolved.read_text(encoding="utf8")) != yaml.safe_load(
+            render_resolved_params(root)):
         raise ParamsError(f"{RESOLVED} does not match params.yaml; run `python -m navlab pipeline write` "
                           "(`make repro` does) before `dvc repro`")
+
+
+def _sweep_queue(args) -> int:
+    from navlab.pipeline.experiments import queue_sweep
+
+    queued = queue_sweep(load_params(), repo_root(), args.artifacts_dir)
+    for name in queued:
+        print(f"queued {name}")
+    print(f"{len(queued)} experiment(s) queued; run them with `dvc queue start -j 2` (`dvc queue status` follows "
+          "them), then `python -m navlab sweep collect`" if queued else
+          "nothing to queue: every point is cached or in a finished experiment; run `python -m navlab sweep collect`")
+    return 0
+
+
+def _sweep_collect(args) -> int:
+    from navlab.pipeline.experiments import collect_sweep
+
+    taken, missing = collect_sweep(load_params(), repo_root(), args.artifacts_dir)
+    print(f"results taken from {len(taken)} experiment(s): {', '.join(taken) or 'none'}")
+    if missing:
+        print(f"{len(missing)} point(s) still missing ({', '.join(missing)}): queued experiments not finished "
+              "(`dvc queue status`), or `dvc repro` runs them itself")
+        return 1
+    print("every point is cached; `dvc repro` assembles and locks the curves")
+    return 0
 
 
 def _params_check(args) -> int:
@@ -198,7 +227,7 @@ def _params_check(args) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
     groups = parser.add_subparsers(dest="group", required=True,
-                                   metavar="{data,artifacts,notebook,lab,reports,params,pipeline}")
+                                   metavar="{data,artifacts,notebook,lab,reports,params,pipeline,sweep}")
 
     def profile_arg(p):
         p.add_argument("--profile", choices=PROFILES, default=None,
@@ -281,6 +310,18 @@ def build_parser() -> argparse.ArgumentParser:
     w.set_defaults(func=_pipeline_write)
     k = pipe_cmds.add_parser("check", help="fail when the generated files drifted or dvc.lock is stale")
     k.set_defaults(func=_pipeline_check)
+
+    sw = groups.add_parser("sweep", help="the HJ sensitivity sweep on DVC's experiment queue, one experiment per "
+                                         "point (issue 26)")
+    sw_cmds = sw.add_subparsers(dest="cmd", required=True)
+    q = sw_cmds.add_parser("queue", help="queue a `dvc exp run` of stage hj_sweep for every point not yet cached "
+                                         "(the profile of params.yaml)")
+    folder_args(q, "artifacts")
+    q.set_defaults(func=_sweep_queue)
+    c = sw_cmds.add_parser("collect", help="copy finished experiments' point results into the point cache; "
+                                           "exit 1 while points are missing")
+    folder_args(c, "artifacts")
+    c.set_defaults(func=_sweep_collect)
     return parser
 
 

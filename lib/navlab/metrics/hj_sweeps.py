@@ -48,6 +48,15 @@ class Point:
     kind: str
     value: int | tuple[float, float, float]
 
+    @property
+    def name(self) -> str:
+        """A readable name, unique within a sweep ("budget-500", "loop-12hz-0.1m-1.5s"): what
+        ``hj.sensitivity.only`` lists and what each queued DVC experiment is called after."""
+        if self.kind == "budget":
+            return f"budget-{int(self.value)}"
+        hz, noise, ahead = self.value
+        return f"loop-{hz:g}hz-{noise:g}m-{ahead:g}s"
+
 
 def sweep_points(params: Params) -> list[Point]:
     """The points params.yaml ``hj.sensitivity`` asks for: every budget; for Table VI each re-planning rate,
@@ -58,6 +67,21 @@ def sweep_points(params: Params) -> list[Point]:
     triples += [(hz, noise, a) for a in s.human_prediction_s]
     loops = dict.fromkeys(tuple(float(v) for v in t) for t in triples)
     return [Point("budget", int(b)) for b in s.budgets] + [Point("loop", t) for t in loops]
+
+
+def selected_points(params: Params) -> list[Point]:
+    """``sweep_points``, narrowed to ``hj.sensitivity.only`` when it names any (one queued experiment each)."""
+    points, only = sweep_points(params), params.hj.sensitivity.only
+    unknown = sorted(set(only) - {p.name for p in points})
+    if unknown:
+        raise ValueError(f"hj.sensitivity.only names {unknown[0]!r}, not a point of this sweep; its points are "
+                         f"{', '.join(p.name for p in points)}")
+    return [p for p in points if not only or p.name in only]
+
+
+def point_file(params: Params, point: Point, artifacts_dir: str | Path) -> Path:
+    """Where the point's result is cached: its kind and the first 16 hex digits of its ``point_key``."""
+    return Path(artifacts_dir) / SWEEP_SUBDIR / f"{point.kind}-{point_key(params, point, artifacts_dir)[:16]}.json"
 
 
 def _applied(params: Params, point: Point) -> Params:
@@ -106,6 +130,11 @@ def run_point(params: Params, point: Point, artifacts_dir: str | Path) -> dict:
     return {"kind": point.kind, "value": point.value, "rows": rows}
 
 
+def build_sweep(params: Params, data_dir: str | Path, artifacts_dir: str | Path) -> None:
+    """The ``hj_sweep`` artefact step: every selected point's result under ``artifacts/hj_sensitivity``."""
+    run_sweep(params, artifacts_dir)
+
+
 def _run_and_store(args) -> dict:
     params, point, artifacts_dir, path = args
     result = run_point(params, point, artifacts_dir)
@@ -114,12 +143,12 @@ def _run_and_store(args) -> dict:
 
 
 def run_sweep(params: Params, artifacts_dir: str | Path, progress: bool = True) -> list[dict]:
-    """Every point of ``sweep_points``, from the cache where its key matches, else run (in
+    """Every point of ``selected_points``, from the cache where its key matches, else run (in
     ``hj.sensitivity.workers`` processes) and stored; results in point order."""
     folder = Path(artifacts_dir) / SWEEP_SUBDIR
     folder.mkdir(parents=True, exist_ok=True)
-    points = sweep_points(params)
-    paths = [folder / f"{p.kind}-{point_key(params, p, artifacts_dir)[:16]}.json" for p in points]
+    points = selected_points(params)
+    paths = [point_file(params, p, artifacts_dir) for p in points]
     todo = [(params, p, artifacts_dir, path) for p, path in zip(points, paths, strict=True) if not path.exists()]
     bar = tqdm(total=len(todo), desc="HJ sensitivity points", disable=not progress or not todo)
     workers = min(params.hj.sensitivity.workers, len(todo))

@@ -75,6 +75,7 @@ _CONTEXT_DRAW = tuple(f"surenav.demos.context.{k}"
 _CONTEXT_TRAIN = ("surenav.demos.context.node_features", "surenav.demos.context.estimator")
 _FIG = "reports/{}/figures/"
 _MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
+_SWEEP = "artifacts/hj_sensitivity"  # issue 26's sensitivity points (hj_sweep), one JSON per point
 # The index's outputs, committed to git (cache: false): the results page and its figure copies, so GitHub shows them.
 INDEX_OUTS = ("reports/README.md", "reports/figures")
 
@@ -150,13 +151,15 @@ STAGES: tuple[Stage, ...] = (
               ("reports/hj/table8_rooms.json", "reports/hj/table9_humans.json")),
     _notebook("hj_compute", "notebooks/hj/05_compute.ipynb", _HJ_SEARCH, ("artifacts/hj", _MARGINS),
               metrics=("reports/hj/table7_compute.json",)),
-    dataclasses.replace(  # issue 26's curves; each point cached (resumable) under artifacts/hj_sensitivity
-        _notebook("hj_sensitivity", "notebooks/hj/06_sensitivity.ipynb", (*_HJ_LOOP, "hj.seed", "hj.sensitivity"),
-                  ("artifacts/hj", _MARGINS),
-                  ("artifacts/hj_sensitivity", *(_FIG.format("hj") + f"sensitivity_{k}.png"
-                                                 for k in ("budget", "replan_hz", "human_noise_m", "human_prediction_s"))),
-                  ("reports/hj/sensitivity_budget.json", "reports/hj/sensitivity_loop.json")),
-        persist=("artifacts/hj_sensitivity",)),
+    # issue 26's curves: each point cached (resumable) under artifacts/hj_sensitivity by hj_sweep, which a
+    # queued DVC experiment runs for one point (navlab.pipeline.experiments); the notebook assembles them
+    _artifact("hj_sweep", (*_HJ_LOOP, "hj.seed", "hj.sensitivity"), ("artifacts/hj", _MARGINS),
+              (_SWEEP,), persist=True),
+    _notebook("hj_sensitivity", "notebooks/hj/06_sensitivity.ipynb", (*_HJ_LOOP, "hj.seed", "hj.sensitivity"),
+              ("artifacts/hj", _MARGINS, _SWEEP),
+              tuple(_FIG.format("hj") + f"sensitivity_{k}.png"
+                    for k in ("budget", "replan_hz", "human_noise_m", "human_prediction_s")),
+              ("reports/hj/sensitivity_budget.json", "reports/hj/sensitivity_loop.json")),
 )
 
 # Training curves for `dvc plots show`: (file, x, y columns, title)

@@ -22,6 +22,7 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
+    from navlab.metrics.hj_sweeps import build_sweep
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.brt_margin import build_brt_margins
     from navlab.reach.precompute import build_hj_grids
@@ -32,6 +33,7 @@ def artifact_steps():
     return [
         ("hj_grids", build_hj_grids),
         ("hj_margins", build_brt_margins),  # reads hj_grids' static BRTs
+        ("hj_sweep", build_sweep),  # issue 26's sensitivity points (one per queued experiment: pipeline.experiments)
         ("surenav_episodes", build_episodes),
         *pacer_steps(),  # pacer_phase1..3, pacer_sterling, pacer_classifier
         *surenav_steps(),  # surenav_estimator (GPS and MPNN-ablation seeds)

@@ -103,6 +103,7 @@ class SensitivityParams:
     human_noise_m: tuple[float, ...] = between(0.0, 1.0)  # Table VI's scenarios at hj.dynamic.closed_loop's rate
     human_prediction_s: tuple[float, ...] = between(0.0, 60.0)  # Table VI: FI/FS prune the humans this far ahead
     workers: int = between(1, 64)  # processes running points (results do not depend on it)
+    only: tuple[str, ...] = ()  # run just these points (Point.name); empty: all. Set by `sweep queue`, one per experiment
 
 
 @dataclass(frozen=True)
