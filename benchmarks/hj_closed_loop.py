@@ -20,9 +20,9 @@ import time
 import numpy as np
 
 from navlab.core.params import load_params
-from navlab.metrics.hj_closed_loop import timing
+from navlab.hj.closed_loop import timing
+from navlab.hj.scenarios import ClosedLoop
 from navlab.reach.precompute import build_hj_grids
-from navlab.sim.hj_scenarios import ClosedLoop
 
 PERIOD_MS = 1000.0 / 12.0  # the paper's re-plan rate (Sec. VIII-A)
 

@@ -18,17 +18,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from navlab.hj.guidance import dist_heuristic
+from navlab.hj.lattice_policy import LatticePolicy
+from navlab.hj.pruners import FIParams, human_pruner, obs_pruner, static_brt_pruner
 from navlab.maps.rooms import Disc, Room
 from navlab.reach.grid import Grid
-from navlab.reach.guidance import dist_heuristic
 from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup
-from navlab.reach.pruners import FIParams, human_pruner, obs_pruner, static_brt_pruner
 from navlab.reach.store import StoredGrid
 from navlab.search.dubins_lattice import LatticeSpec, primitive_table, successor_samples
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Costmap, Goal, StaticPruner, search
-from navlab.sim.lattice_policy import LatticePolicy
 from navlab.sim.receding_horizon import Observation
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
+from navlab.hj.guidance import dist_heuristic
+from navlab.hj.planning import plan_clearance
+from navlab.hj.pruners import field_error, obs_pruner
 from navlab.maps.rooms import Disc, Rect, Room
-from navlab.reach.guidance import dist_heuristic
-from navlab.reach.planning import plan_clearance
-from navlab.reach.pruners import field_error, obs_pruner
 from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primitive_table
 from navlab.search.lattice_search import Goal, search
 

@@ -10,11 +10,9 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from navlab.core.io import DataError
-from navlab.maps.rooms import Disc, Room
-from navlab.reach.guidance import dist_heuristic, map_dist_heuristic, ttr_heuristic
-from navlab.reach.planning import Planner, heading_tasks
-from navlab.reach.precompute import build_hj_grids, load_human_brt, load_static_brt, load_ttr
-from navlab.reach.pruners import (
+from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, ttr_heuristic
+from navlab.hj.planning import Planner, heading_tasks
+from navlab.hj.pruners import (
     FIParams,
     human_prune_reference,
     human_pruner,
@@ -22,6 +20,8 @@ from navlab.reach.pruners import (
     static_brt_pruner,
     static_prune_reference,
 )
+from navlab.maps.rooms import Disc, Room
+from navlab.reach.precompute import build_hj_grids, load_human_brt, load_static_brt, load_ttr
 from navlab.search.dubins_lattice import (
     LatticeSpec,
     densify,
@@ -302,8 +302,8 @@ def test_returned_plans_are_chains_the_pruner_accepted():
 
 
 def test_summaries_count_each_way_to_fail_and_explain_a_cost_gap():
-    from navlab.metrics.hj_paper import astar_rows, check_claims, failure_modes, summarise
-    from navlab.reach.planning import TaskResult
+    from navlab.hj.paper import astar_rows, check_claims, failure_modes, summarise
+    from navlab.hj.planning import TaskResult
 
     def task(clearance, cost, found=True):
         return TaskResult("Dist", "OBS", "A*", (0.0, 0.0, 0.0, 0.0), (1.0, 1.0), "found" if found else "time limit",
@@ -335,8 +335,8 @@ def test_heuristic_excess_is_zero_for_dist_and_measured_for_ttr(grids, smoke_par
 
 
 def test_anytime_budget_states_expansions_and_this_machines_milliseconds():
-    from navlab.metrics.hj_paper import anytime_budget
-    from navlab.reach.planning import TaskResult
+    from navlab.hj.paper import anytime_budget
+    from navlab.hj.planning import TaskResult
 
     def run(expansions, seconds):
         return TaskResult("Dist", "OBS", "ANA*", (0.0,) * 4, (1.0, 1.0), "optimal", True, 0.1, 10, expansions,

@@ -8,9 +8,9 @@ import dataclasses
 import pytest
 
 from navlab.core.params import load_params
-from navlab.metrics import hj_sensitivity as hs
-from navlab.metrics import hj_sweeps
-from navlab.metrics.hj_sweeps import Point, point_key, run_sweep, sweep_points
+from navlab.hj import sensitivity as hs
+from navlab.hj import sweeps as hj_sweeps
+from navlab.hj.sweeps import Point, point_key, run_sweep, sweep_points
 
 
 def test_holding_range_names_prefix_suffix_all_none_and_scattered_points():

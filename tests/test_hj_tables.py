@@ -6,9 +6,9 @@ import math
 
 import pytest
 
+from navlab.hj.paper import PAPER
+from navlab.hj.planning import TaskResult
 from navlab.hj.tables import PAPER_CALLS, table1, table2, table5, table6, table7
-from navlab.metrics.hj_paper import PAPER
-from navlab.reach.planning import TaskResult
 
 EXCESS = {"starts": 3, "over": 1, "max_excess_s": 0.25}
 

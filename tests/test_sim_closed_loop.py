@@ -9,8 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from navlab.maps.rooms import load_room
-from navlab.metrics.hj_closed_loop import (
+from navlab.hj.closed_loop import (
     PAPER,
     check_claims,
     detour_start,
@@ -18,10 +17,11 @@ from navlab.metrics.hj_closed_loop import (
     summarise_runs,
     summarise_trips,
 )
+from navlab.hj.scenarios import ClosedLoop, cyclic_goals, start_state
+from navlab.maps.rooms import load_room
 from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.store import save_grid
 from navlab.search.lattice_search import NO_HUMAN
-from navlab.sim.hj_scenarios import ClosedLoop, cyclic_goals, start_state
 from navlab.sim.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 
 
@@ -157,7 +157,7 @@ def test_a_new_plan_replaces_a_safe_one_only_if_it_arrives_sooner(loop):
 
 def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():
     """A human walking into a braked car is no pruner's miss; the car driving its plan into one is."""
-    from navlab.metrics.hj_closed_loop import contacts_on_plan
+    from navlab.hj.closed_loop import contacts_on_plan
     from navlab.sim.humans import StraightWalker
 
     room = load_room("open")

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from navlab.core.params import load_params
+from navlab.hj.guidance import dist_heuristic
+from navlab.hj.lattice_policy import LatticePolicy
+from navlab.hj.planning import lattice_spec
+from navlab.hj.pruners import obs_pruner
 from navlab.maps.rooms import load_room
-from navlab.reach.guidance import dist_heuristic
-from navlab.reach.planning import lattice_spec
-from navlab.reach.pruners import obs_pruner
 from navlab.search.dubins_lattice import densify, first_step, integrate
-from navlab.sim.lattice_policy import LatticePolicy
 from navlab.sim.receding_horizon import Evasion, Observation
 
 ROBOT_R, HUMAN_R = 0.285, 0.3

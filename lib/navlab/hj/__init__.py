@@ -1,5 +1,10 @@
-"""HJ-search (Hu, Siu, Chen 2026): the track's paper tables, built from the planning results of ``reach`` and ``sim``.
+"""HJ-search (Hu, Siu, Chen 2026): the track's planning, closed loop and paper tables, on the level sets of ``reach``.
 
-The HJ track's own package beside ``surenav`` and ``pacer`` (issue 27 item 1, begun: ``tables``); its
-planning, guidance, pruners, scenarios and closed loop still live in ``reach``, ``sim`` and ``metrics``.
+The HJ track's package beside ``surenav`` and ``pacer`` (issue 27 item 1): ``guidance`` (heuristics) and
+``pruners`` (OBS, static BRT, FS/FI human BRT) turn ``reach``'s stored value functions into what the compiled
+lattice search evaluates; ``planning`` (tasks of Tables I-V), ``timing`` (Table VII); ``lattice_policy`` and
+``scenarios`` (the receding-horizon car and the closed-loop cells of Tables VI, VIII, IX); ``paper``,
+``closed_loop``, ``sensitivity`` and ``sweeps`` (the papers' numbers, summaries, claims and the sensitivity
+sweep); ``tables`` and ``value_functions`` (the reports). ``reach`` stays a level-set library (and the BRT
+margin it measures); the HJ figures are in ``viz`` (``viz.hj_*``), the layer above.
 """

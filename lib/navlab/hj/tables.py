@@ -1,7 +1,7 @@
 """HJ-search Tables I-IX and the sensitivity curves as report tables: our rows, the paper's, the notes and the claim verdicts.
 
 The notebooks only run the searches and the timings and hand the results here; what the notes say and
-which of the paper's claims hold (``metrics.hj_paper`` and ``metrics.hj_closed_loop``'s ``check_claims``)
+which of the paper's claims hold (``hj.paper`` and ``hj.closed_loop``'s ``check_claims``)
 are decided in this module.
 """
 
@@ -11,8 +11,8 @@ from collections.abc import Mapping, Sequence
 
 from navlab.core.params.hj import PlannerParams
 from navlab.core.params.hj_dynamic import DynamicParams
-from navlab.metrics import hj_closed_loop
-from navlab.metrics.hj_paper import (
+from navlab.hj import closed_loop as hj_closed_loop
+from navlab.hj.paper import (
     ANA_COLUMNS,
     ASTAR_COLUMNS,
     PAPER,
@@ -23,7 +23,7 @@ from navlab.metrics.hj_paper import (
     failure_modes,
     summarise,
 )
-from navlab.metrics.hj_sensitivity import (
+from navlab.hj.sensitivity import (
     BUDGET_COLUMNS,
     LOOP_COLUMNS,
     budget_claims,
@@ -37,6 +37,9 @@ TABLE7_COLUMNS = ["component", "states", "total_s", "per_call_us", "per_state_ns
                   "in_search_evaluated_states", "in_search_per_state_ns", "in_search_cpu_per_state_ns",
                   "paper_per_state_ns", "cheaper_than_paper_per_state"]
 PAPER_CALLS = 10_000  # Table VII's calls per component
+SEARCH_REFS = {"table1_heuristics_astar": "HJ-search Table I", "table2_heuristics_anastar": "HJ-search Table II",
+               "table3_pruning_astar": "HJ-search Table III", "table4_pruning_anastar": "HJ-search Table IV",
+               "table5_static_general": "HJ-search Table V"}
 TABLE6_COLUMNS = ["method", "scenario", "success", "runs", "success_rate", "success_rate_ci", "collisions",
                   "contacts_on_plan", "time_s", "time_s_ci", "time_all_s", "detour_m", "detour_m_ci"]
 
@@ -56,35 +59,39 @@ def _rows(results: Mapping[str, list], seed: int) -> list[dict]:
     return rows
 
 
+def _search_table(table_id: str, rows: list[dict], shown: list[dict], setup: str,
+                  claim_rows: list[dict] | None = None) -> Table:
+    """Tables I-V: the ``shown`` rows (``astar_rows`` or ``ana_rows`` of ``rows``), the claims ``check_claims``
+    decides on ``claim_rows`` (default: ``shown``), and notes: the set-up, the claims, the failure modes."""
+    claims = check_claims(table_id, shown if claim_rows is None else claim_rows)
+    notes = setup + " Claims: " + "; ".join(claims) + ". " + failure_modes(rows)
+    columns = ASTAR_COLUMNS if table_id in ("table1_heuristics_astar", "table3_pruning_astar") else ANA_COLUMNS
+    return Table(table_id, SEARCH_REFS[table_id], columns, shown, PAPER[table_id], notes, claims)
+
+
 def table1(results: Mapping[str, list], excess: Mapping[str, float], seed: int) -> Table:
-    """Table I: A* with the Dist and the TTR heuristic on the table's start headings (``reach.planning.run_tasks``
+    """Table I: A* with the Dist and the TTR heuristic on the table's start headings (``hj.planning.run_tasks``
     results by method)."""
     rows = _rows(results, seed)
-    claims = check_claims("table1_heuristics_astar", astar_rows(rows))
-    notes = ("Our lattice (35 primitives, 0.5 s steps), room and start/goal (params.yaml hj.planner.table1); "
+    setup = ("Our lattice (35 primitives, 0.5 s steps), room and start/goal (params.yaml hj.planner.table1); "
              "time_s = total search seconds of our compiled search, not comparable with the paper's Python. "
              "Means over successful tasks with 95% bootstrap CIs over tasks; success CIs Wilson. Paper node "
-             "counts are blank in its text (null). " + excess_note(excess) + " Claims: " + "; ".join(claims) + ". "
-             + failure_modes(rows))
-    return Table("table1_heuristics_astar", "HJ-search Table I", ASTAR_COLUMNS, astar_rows(rows),
-                 PAPER["table1_heuristics_astar"], notes, claims)
+             "counts are blank in its text (null). " + excess_note(excess))
+    return _search_table("table1_heuristics_astar", rows, astar_rows(rows), setup)
 
 
 def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, max_expansions: int) -> Table:
     """Table II: ANA* with either heuristic; ``max_expansions``: its budget (``hj.planner.anastar_max_expansions``)."""
     rows = _rows(results, seed)
-    claims = check_claims("table2_heuristics_anastar", ana_rows(rows))
-    notes = (anytime_budget(dict(results), max_expansions) + " nodes = expansions to the first "
+    setup = (anytime_budget(dict(results), max_expansions) + " nodes = expansions to the first "
              "solution, cost = the final (best) solution's cost. *_common: over tasks both solved; *_all: over "
              "each method's successes; 95% bootstrap CIs over tasks, Wilson for success. Our car cannot reverse "
-             "(v in [0, v_max], as the HJ grids), so re-orientation is by turning arcs. " + excess_note(excess)
-             + " Claims: " + "; ".join(claims) + ". " + failure_modes(rows))
-    return Table("table2_heuristics_anastar", "HJ-search Table II", ANA_COLUMNS, ana_rows(rows),
-                 PAPER["table2_heuristics_anastar"], notes, claims)
+             "(v in [0, v_max], as the HJ grids), so re-orientation is by turning arcs. " + excess_note(excess))
+    return _search_table("table2_heuristics_anastar", rows, ana_rows(rows), setup)
 
 
 def table7(rows: Sequence[dict], calls: int, grid_shapes: tuple[tuple[int, ...], tuple[int, ...]]) -> Table:
-    """Table VII: per-component timings (``metrics.hj_paper.compare_table7`` rows) beside the paper's, its
+    """Table VII: per-component timings (``hj.paper.compare_table7`` rows) beside the paper's, its
     totals scaled to our ``calls``; ``grid_shapes``: (TTR, BRT) grid shapes."""
     paper_rows = [{"component": r["component"], "states": r["states"], "total_s": r["total_s"] * calls / PAPER_CALLS,
                    "per_call_us": r["total_s"] / PAPER_CALLS * 1e6,
@@ -103,48 +110,47 @@ def table3(results: Mapping[str, list], margin: float, margin_report: Mapping, s
     """Table III: A* (Dist) with the OBS and the BRT pruner; ``margin``: the BRT margin and ``margin_report``
     how it was measured (``Planner.margin``, ``Planner.margin_report``)."""
     rows, m = _rows(results, seed), margin_report
-    claims = check_claims("table3_pruning_astar", astar_rows(rows))
-    notes = (f"BRT margin {margin:.4f} measured on grid {m['coarse_shape']} vs a finer {m['fine_shape']} "
+    setup = (f"BRT margin {margin:.4f} measured on grid {m['coarse_shape']} vs a finer {m['fine_shape']} "
              f"solve ({m['scheme']}; largest stored value at a node the finer solve calls unsafe; "
              f"{m['missed_unsafe_nodes']} such nodes). Costs: dt*(1 + w*exp(-decay*clearance)), not Nav2's "
              "0-252 scale, so magnitudes differ from the paper. time_s: our compiled search. Paper node counts "
-             "are blank in its text (it states a 15.1% reduction). Claims: " + "; ".join(claims) + ". "
-             + failure_modes(rows))
-    return Table("table3_pruning_astar", "HJ-search Table III", ASTAR_COLUMNS, astar_rows(rows),
-                 PAPER["table3_pruning_astar"], notes, claims)
+             "are blank in its text (it states a 15.1% reduction).")
+    return _search_table("table3_pruning_astar", rows, astar_rows(rows), setup)
 
 
 def table4(results: Mapping[str, list], margin: float, seed: int, max_expansions: int) -> Table:
     """Table IV: ANA* (Dist) with the OBS and the BRT pruner."""
     rows = _rows(results, seed)
-    claims = check_claims("table4_pruning_anastar", ana_rows(rows))
-    notes = (f"ANA* with the Dist heuristic; BRT margin {margin:.4f}. {anytime_budget(dict(results), max_expansions)} "
+    setup = (f"ANA* with the Dist heuristic; BRT margin {margin:.4f}. {anytime_budget(dict(results), max_expansions)} "
              "nodes = expansions to the first solution, cost = final solution; success needs the densified check. "
-             "95% bootstrap CIs over tasks, Wilson for success. Claims: " + "; ".join(claims) + ". "
-             + failure_modes(rows))
-    return Table("table4_pruning_anastar", "HJ-search Table IV", ANA_COLUMNS, ana_rows(rows),
-                 PAPER["table4_pruning_anastar"], notes, claims)
+             "95% bootstrap CIs over tasks, Wilson for success.")
+    return _search_table("table4_pruning_anastar", rows, ana_rows(rows), setup)
 
 
 def table5(results: Mapping[str, list], margin: float, seed: int, planner: PlannerParams) -> Table:
     """Table V: every heuristic x pruner combination on ``planner.table5``'s random start-goal pairs."""
     rows = _rows(results, seed)
-    claims = check_claims("table5_static_general", rows)
     t5 = planner.table5
-    notes = (f"{t5.pairs} pairs drawn with seed hj.seed, blocked line of sight or >= {t5.min_distance_m} m apart; "
+    setup = (f"{t5.pairs} pairs drawn with seed hj.seed, blocked line of sight or >= {t5.min_distance_m} m apart; "
              f"BRT margin {margin:.4f}. {anytime_budget(dict(results), planner.anastar_max_expansions)} 95% bootstrap "
-             "CIs over tasks, Wilson for success. Claims: " + "; ".join(claims) + ". " + failure_modes(rows))
-    return Table("table5_static_general", "HJ-search Table V", ANA_COLUMNS, ana_rows(rows),
-                 PAPER["table5_static_general"], notes, claims)
+             "CIs over tasks, Wilson for success.")
+    return _search_table("table5_static_general", rows, ana_rows(rows), setup, claim_rows=rows)
+
+
+def _loop_table(table_id: str, paper_ref: str, columns: list[str], rows: Sequence[dict], setup: str) -> Table:
+    """Tables VI, VIII, IX: the closed-loop rows, the claims ``hj.closed_loop.check_claims`` decides on
+    them, and notes: the set-up, then the claims."""
+    claims = hj_closed_loop.check_claims(table_id, list(rows))
+    return Table(table_id, paper_ref, columns, list(rows), hj_closed_loop.PAPER[table_id],
+                 setup + "Claims: " + "; ".join(claims), claims)
 
 
 def table6(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float]) -> Table:
-    """Table VI / Fig. 8: the closed-loop rows (``metrics.hj_closed_loop.summarise_runs``); ``rules``: the
-    policy's re-plan rules (``ClosedLoop.rules``); ``speed``: ``metrics.hj_closed_loop.timing`` with the
+    """Table VI / Fig. 8: the closed-loop rows (``hj.closed_loop.summarise_runs``); ``rules``: the
+    policy's re-plan rules (``ClosedLoop.rules``); ``speed``: ``hj.closed_loop.timing`` with the
     run's ``wall_s`` and ``cpu_s``."""
     t6, c = dynamic.table6, dynamic.closed_loop
-    claims = hj_closed_loop.check_claims("table6_dynamic", list(rows))
-    notes = (f"Simulated, as in the paper; our coordinates (params.yaml hj.dynamic.table6) in an empty 9.6 x 5.4 m room, "
+    setup = (f"Simulated, as in the paper; our coordinates (params.yaml hj.dynamic.table6) in an empty 9.6 x 5.4 m room, "
              f"walls pruned by OBS in every row. {t6.runs} runs per cell, run r seeded {dynamic.seed}+r; exact poses (human "
              f"noise {t6.human_noise_m} m, as in the paper's simulation), runs differ by where the human starts, U(0, "
              f"{t6.human_start_jitter_m}) m along its line. {c.algorithm}, {c.heuristic} heuristic, {c.max_expansions} "
@@ -156,9 +162,8 @@ def table6(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"when the car first left the head-on line by {t6.detour_lateral_m} m (Fig. 8). Speed: "
              f"{speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall on the shared 2-core machine "
              f"({speed['simulated_s'] / speed['wall_s']:.1f}x real time, {speed['cpu_s']:.0f} s CPU); re-plan median "
-             f"{speed['plan_median_ms']:.1f} ms. Claims: " + "; ".join(claims))
-    return Table("table6_dynamic", "HJ-search Table VI, Fig. 8", TABLE6_COLUMNS, list(rows),
-                 hj_closed_loop.PAPER["table6_dynamic"], notes, claims)
+             f"{speed['plan_median_ms']:.1f} ms. ")
+    return _loop_table("table6_dynamic", "HJ-search Table VI, Fig. 8", TABLE6_COLUMNS, rows, setup)
 
 
 TABLE8_COLUMNS = ["method", "room", "success", "trips", "success_rate", "success_rate_ci", "time_s", "wall_hits",
@@ -169,11 +174,10 @@ TABLE9_COLUMNS = ["method", "setting", "humans", "runs", "time_s", "time_s_ci", 
 
 def table8(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float],
            dense_plan_median_ms: float) -> Table:
-    """Table VIII: the room patrols (``metrics.hj_closed_loop.summarise_trips`` rows); ``speed`` as for
+    """Table VIII: the room patrols (``hj.closed_loop.summarise_trips`` rows); ``speed`` as for
     ``table6``; ``dense_plan_median_ms``: the Dense Room's median re-plan time."""
     t8, c = dynamic.table8, dynamic.closed_loop
-    claims = hj_closed_loop.check_claims("table8_rooms", list(rows))
-    notes = (f"Simulated (the paper: a real QBot). Rooms and goals: navlab.maps.rooms (our layouts of Fig. 9), "
+    setup = (f"Simulated (the paper: a real QBot). Rooms and goals: navlab.maps.rooms (our layouts of Fig. 9), "
              f"{t8.cycles} cycles; pose noise {t8.pose_noise_m} m, seed {dynamic.seed}. {c.algorithm} with "
              f"{c.max_expansions} expansions per {c.replan_hz:g} Hz re-plan (sized to the period by "
              f"benchmarks/hj_closed_loop.py). {rules} "
@@ -183,16 +187,14 @@ def table8(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"Success counts with Wilson 95% CIs; time_s: total time of the successful trips (null = 'Failed'). "
              f"Speed: {speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall ({speed['cpu_s']:.0f} s CPU) "
              f"on the shared 2-core machine; Dense Room re-plan median {dense_plan_median_ms:.1f} ms "
-             f"(target <= 83 ms). Claims: " + "; ".join(claims))
-    return Table("table8_rooms", "HJ-search Table VIII", TABLE8_COLUMNS, list(rows),
-                 hj_closed_loop.PAPER["table8_rooms"], notes, claims)
+             f"(target <= 83 ms). ")
+    return _loop_table("table8_rooms", "HJ-search Table VIII", TABLE8_COLUMNS, rows, setup)
 
 
 def table9(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float]) -> Table:
-    """Table IX: the patrols among humans (``metrics.hj_closed_loop.summarise_patrols`` rows)."""
+    """Table IX: the patrols among humans (``hj.closed_loop.summarise_patrols`` rows)."""
     t9, c = dynamic.table9, dynamic.closed_loop
-    claims = hj_closed_loop.check_claims("table9_humans", list(rows))
-    notes = (f"Simulated (the paper: a real QBot and people). Our set-up (hj.dynamic.table9): the open 9.6 x 5.4 m room, "
+    setup = (f"Simulated (the paper: a real QBot and people). Our set-up (hj.dynamic.table9): the open 9.6 x 5.4 m room, "
              f"robot goals {list(t9.robot_goals)} patrolled {t9.cycles} cycles, humans patrolling "
              f"{[list(p) for p in t9.human_pois]} at 0.8 m/s under the paper's three rules; pose noise "
              f"{t9.pose_noise_m} m, human noise {c.human_noise_m} m; {t9.runs} run(s) per cell, seeded {dynamic.seed}+r. "
@@ -201,13 +203,12 @@ def table9(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"the pruner had accepted, not while braking without one); trip success with Wilson 95% CIs; "
              f"collision/deadlock/timeout: failed trips by cause. {rules} Speed: {speed['simulated_s']:.0f} s simulated "
              f"in {speed['wall_s']:.0f} s wall ({speed['simulated_s'] / speed['wall_s']:.1f}x real time, "
-             f"{speed['cpu_s']:.0f} s CPU, shared 2-core machine). Claims: " + "; ".join(claims))
-    return Table("table9_humans", "HJ-search Table IX", TABLE9_COLUMNS, list(rows),
-                 hj_closed_loop.PAPER["table9_humans"], notes, claims)
+             f"{speed['cpu_s']:.0f} s CPU, shared 2-core machine). ")
+    return _loop_table("table9_humans", "HJ-search Table IX", TABLE9_COLUMNS, rows, setup)
 
 
 def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
-    """Table VIII as a curve of ANA*'s expansions per re-plan (``metrics.hj_sweeps.run_sweep`` results)."""
+    """Table VIII as a curve of ANA*'s expansions per re-plan (``hj.sweeps.run_sweep`` results)."""
     rows = budget_rows(results)
     claims = budget_claims(rows)
     t8, c = dynamic.table8, dynamic.closed_loop

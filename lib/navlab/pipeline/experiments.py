@@ -6,7 +6,7 @@ machines. Each experiment is this commit with ``hj.sensitivity.only`` naming its
 params.yaml and params.resolved.yaml, so the stage's recorded params say which point it ran) and runs only
 the ``hj_sweep`` stage. ``collect_sweep`` then copies each experiment's point result into the workspace's
 point cache, where ``dvc repro`` finds it: a result is taken only under the file name its inputs hash to
-(``metrics.hj_sweeps.point_key``: code, HJ parameters with the point's change, grids), so an experiment
+(``hj.sweeps.point_key``: code, HJ parameters with the point's change, grids), so an experiment
 run from other code or grids is never mistaken for this tree's, and the locked stages assemble the curves.
 """
 
@@ -19,7 +19,7 @@ from pathlib import Path, PurePosixPath
 
 from navlab.core.io import DataError, write_text
 from navlab.core.params import Params
-from navlab.metrics.hj_sweeps import Point, point_file, sweep_points
+from navlab.hj.sweeps import Point, point_file, sweep_points
 from navlab.pipeline.dvc_yaml import RESOLVED
 
 SWEEP_STAGE = "hj_sweep"

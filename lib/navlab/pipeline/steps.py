@@ -22,7 +22,7 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
-    from navlab.metrics.hj_sweeps import build_sweep
+    from navlab.hj.sweeps import build_sweep
     from navlab.pacer.artifacts import artifact_steps as pacer_steps
     from navlab.reach.brt_margin import build_brt_margins
     from navlab.reach.precompute import build_hj_grids

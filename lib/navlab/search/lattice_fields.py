@@ -4,7 +4,7 @@ Why compiled and why here: the paper's Table VII times exactly these calls (35 h
 pruned states per expansion) and its BRT pruner cost 12.5 % of the search time; inside a numba loop a
 4D multilinear look-up is a few dozen loads, with no Python call per state. The search layer only knows
 *numbers*: a ``GridField`` (values on a regular grid) and a kind code. ``navlab.reach`` builds these from
-its stored value functions (``reach.guidance``, ``reach.pruners``), so the dependency points downwards.
+its stored value functions (``hj.guidance``, ``hj.pruners``), so the dependency points downwards.
 
 Heuristic kinds (``H_*``), all in seconds, evaluated at a successor state (x, y, v, θ):
 
@@ -274,7 +274,7 @@ def swept_unsafe(fv, fmin, m, par, q0, v0, step, samples, i, n):
 
     ``q0``/``v0``: the parent's clearance lower bound (``obs_clearance``) and speed; ``step``: the time between
     samples. Why it is conservative: the field's threshold ``par[0]`` is the robot radius plus a bound on
-    the field's error (``reach.pruners.obs_pruner``), so q = value − threshold is a lower bound on the true
+    the field's error (``hj.pruners.obs_pruner``), so q = value − threshold is a lower bound on the true
     distance minus the radius. The true distance d is 1-Lipschitz, so any point p of the path between
     samples a and b of arc length ≤ L has d(p) ≥ max(d(a) − |pa|, d(b) − |pb|) ≥ (d(a) + d(b) − L) / 2;
     the speed is monotone over a primitive, so L ≤ step · max(v_a, v_b). q_a + q_b > L therefore keeps

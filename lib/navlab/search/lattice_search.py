@@ -92,7 +92,7 @@ class StaticPruner:
         where the path from a parent through its samples may touch an obstacle."""
         if self.kind != S_OBS:
             raise ValueError(f"the {self.name or 'static'} pruner has no swept collision check: use an OBS "
-                             f"pruner (reach.pruners.obs_pruner)")
+                             f"pruner (hj.pruners.obs_pruner)")
         parents, samples = _states(parents, "parents"), _segments(samples)
         if len(parents) != len(samples):
             raise ValueError(f"{len(parents)} parents for {len(samples)} segments: give each segment its parent")
@@ -224,7 +224,7 @@ class Costmap:
         values = None if self.field is None else np.asarray(self.field.values)
         if values is not None and not (np.isfinite(values).all() and values.min() >= 0):
             raise ValueError(f"costmap field: every cell cost must be finite and >= 0, found min {values.min()}, "
-                             f"max {values.max()}; rebuild the cost raster (reach.planning.costmap_field)")
+                             f"max {values.max()}; rebuild the cost raster (hj.planning.costmap_field)")
 
 
 @dataclass
@@ -586,7 +586,7 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
             raise ValueError(f"{name} {(float(x), float(y))} is outside the map [0, {x1}) × [0, {y1}); "
                              f"choose a position inside it")
     if collision.kind not in (S_NONE, S_OBS):
-        raise ValueError(f"collision must be an OBS pruner (reach.pruners.obs_pruner), got {collision.name!r}")
+        raise ValueError(f"collision must be an OBS pruner (hj.pruners.obs_pruner), got {collision.name!r}")
     for pruner in (static, collision):
         if pruner.kind != S_NONE:
             _check_ends(pruner, start, goal)

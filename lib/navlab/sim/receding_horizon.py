@@ -8,7 +8,7 @@ split there); the car integrates them under the paper's Eq. (19) (``search.dubin
 so from the observed state it drives the very trajectory the planner checked. A planner that finds no plan
 returns an empty sequence and the car brakes with ``a_min`` and ω = 0 (an emergency stop); a planner that
 returns ``None`` found no new plan but vouches for the one the car is executing (re-checked, see
-``sim.lattice_policy``): the car goes on with it, in step with the time it was issued, as the paper's
+``hj.lattice_policy``): the car goes on with it, in step with the time it was issued, as the paper's
 controller keeps executing the last action sequence it received.
 
 A trip from one goal to the next ends as the paper scores it (Sec. VIII-A): success when the car is

@@ -1,5 +1,5 @@
 """Issue 26's sensitivity curves: success rate (Wilson 95% band) of each row against one swept setting, one
-panel per room or scenario (rows from ``metrics.hj_sensitivity``)."""
+panel per room or scenario (rows from ``hj.sensitivity``)."""
 
 from __future__ import annotations
 

@@ -5,8 +5,8 @@ A person picks one of the rooms and set-ups of Tables I-IX, clicks the robot's s
 speed, the TTR heuristic to the goal, the static BRT and the human-robot BRT slices, the lattice plan
 (status, expansions, search time) and which successors each pruner removes; a button runs the closed loop
 for a few simulated seconds and plays it back. Everything is computed by the library the HJ notebooks use:
-``sim.hj_scenarios.ClosedLoop`` (heuristics, pruners with the measured BRT margin, the receding-horizon
-policy), ``search.lattice_search.search``, ``reach.pruners.human_pruner``, ``sim.receding_horizon.run_patrol``
+``hj.scenarios.ClosedLoop`` (heuristics, pruners with the measured BRT margin, the receding-horizon
+policy), ``search.lattice_search.search``, ``hj.pruners.human_pruner``, ``sim.receding_horizon.run_patrol``
 and ``viz.hj_closed_loop.patrol_gif``. This module keeps the choices, checks them and caches what they give.
 
 Why a census of removed successors and not the search's own: the compiled search counts expansions but
@@ -37,14 +37,14 @@ from matplotlib.figure import Figure
 
 from navlab.core.io import DataError
 from navlab.core.params import Params, load_params
+from navlab.hj.planning import plan_clearance, random_pairs
+from navlab.hj.pruners import human_pruner
+from navlab.hj.scenarios import ClosedLoop
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.brt_margin import MARGINS_SUBDIR
-from navlab.reach.planning import plan_clearance, random_pairs
 from navlab.reach.precompute import load_human_brt, load_static_brt
-from navlab.reach.pruners import human_pruner
 from navlab.search.dubins_lattice import place, primitive_table
 from navlab.search.lattice_search import NO_HUMAN, NO_STATIC, Goal, SearchResult, StaticPruner, search
-from navlab.sim.hj_scenarios import ClosedLoop
 from navlab.sim.humans import StraightWalker
 from navlab.sim.receding_horizon import Run, Trip, run_patrol
 from navlab.viz.hj_closed_loop import patrol_gif
@@ -54,7 +54,7 @@ from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure
 MODES = ("start", "goal", "human")
 HEURISTICS = ("TTR", "Dist")
 STATIC = ("OBS", "BRT")
-HUMAN_MODES = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # as Tables VI and IX (sim.hj_scenarios.HUMAN_ROWS)
+HUMAN_MODES = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # as Tables VI and IX (hj.scenarios.HUMAN_ROWS)
 ALGORITHMS = ("A*", "ANA*")
 MAX_HUMANS = 3
 FIELD_M = 0.05  # resolution of the drawn fields (m)

@@ -3,7 +3,7 @@ VIII-C Table IX), built from params.yaml ``hj.dynamic``.
 
 Each function sets up one run — room, start, goals, humans, heuristic, pruners — and drives the
 receding-horizon loop (``sim.receding_horizon.run_patrol``) with the HJ-guided lattice planner as the
-policy (``sim.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sensing noise from
+policy (``hj.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sensing noise from
 ``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws
 (in Table VI, noise-free like the paper's simulation, the draw is where along its line the human starts).
 
@@ -24,13 +24,13 @@ from pathlib import Path
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.hj.guidance import dist_heuristic, ttr_heuristic
+from navlab.hj.lattice_policy import LatticePolicy
+from navlab.hj.planning import Planner, lattice_spec
+from navlab.hj.pruners import FIParams, obs_pruner
 from navlab.maps.rooms import Room, load_room
-from navlab.reach.guidance import dist_heuristic, ttr_heuristic
-from navlab.reach.planning import Planner, lattice_spec
 from navlab.reach.precompute import load_human_brt, load_ttr
-from navlab.reach.pruners import FIParams, obs_pruner
 from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
-from navlab.sim.lattice_policy import LatticePolicy
 from navlab.sim.receding_horizon import Run, SimSettings, run_patrol
 
 HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX: row -> LatticePolicy mode
@@ -74,12 +74,12 @@ class ClosedLoop:
                            human_speed=h.speed)
 
     def rules(self) -> str:
-        """The loop's rules beyond the paper's text (sim.lattice_policy, sim.receding_horizon), for the reports."""
+        """The loop's rules beyond the paper's text (hj.lattice_policy, sim.receding_horizon), for the reports."""
         c = self.d.closed_loop
         keep = (f"a re-plan out of budget keeps the car's current plan if its next 2 s re-check collision-free (and pass "
                 f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
-        return (f"Between re-plans (sim.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
+        return (f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
                 f"for up to {c.rest_periods} period(s) while it waits; without a plan the car brakes straight where "
                 f"that stops clear of the walls, else swerves (the one step after which braking does), else keeps the "
                 f"plan in force; a start inside the static BRT's margin but clear "

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from navlab.hj.guidance import grid_field
 from navlab.maps.rooms import Room
-from navlab.reach.guidance import grid_field
 from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup, wrap_angle
 from navlab.search.lattice_fields import S_BRT, S_OBS, U_FI, U_FS, GridField
 from navlab.search.lattice_search import HumanPruner, StaticPruner

@@ -73,7 +73,7 @@ def _ci(ci) -> list | None:
 
 
 def summarise(results: dict[str, list], seed: int) -> list[dict]:
-    """Rows per method from per-task results (``reach.planning.TaskResult``), all methods over the same
+    """Rows per method from per-task results (``hj.planning.TaskResult``), all methods over the same
     task list: success count and rate (Wilson), the two ways to fail (no plan within the limits; a plan
     that fails the densified check, with the median depth it reaches into an obstacle), and mean nodes /
     cost (bootstrap) over the tasks every method solved (``*_common``) and over the method's own
@@ -144,7 +144,7 @@ TABLE7_TARGET = 5.0  # issue 11: our look-ups at least 5x cheaper per evaluated 
 
 
 def compare_table7(rows: list[dict]) -> list[dict]:
-    """Our Table VII rows (``reach.timing.table7_timings``) with the paper's ns per state beside them and
+    """Our Table VII rows (``hj.timing.table7_timings``) with the paper's ns per state beside them and
     how many times cheaper ours is per evaluated state, in CPU time inside the compiled loop."""
     paper = {r["component"]: r for r in PAPER["table7_compute"]}
     out = []

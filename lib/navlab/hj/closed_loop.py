@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from navlab.metrics.hj_paper import bootstrap_mean, wilson
+from navlab.hj.paper import bootstrap_mean, wilson
 from navlab.sim.receding_horizon import Run
 
 PAPER = {

@@ -20,11 +20,11 @@ from pathlib import Path
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, map_ttr_heuristic, ttr_heuristic
+from navlab.hj.pruners import clearance_field, obs_pruner, static_brt_pruner
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.brt_margin import measure_static_brt_margin
-from navlab.reach.guidance import dist_heuristic, map_dist_heuristic, map_ttr_heuristic, ttr_heuristic
 from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
-from navlab.reach.pruners import clearance_field, obs_pruner, static_brt_pruner
 from navlab.search.dubins_lattice import LatticeSpec, densify, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import NO_STATIC, Costmap, Goal, SearchResult, search, zero_heuristic

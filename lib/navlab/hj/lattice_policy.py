@@ -12,7 +12,7 @@ plans by up to 6 cm/s and grazed a Dense Room wall (measured).
 
 Human handling, the three rows of Tables VI and IX:
 
-- ``"fi"`` / ``"fs"``: the human-robot BRT pruner (``reach.pruners.human_pruner``) with the observed
+- ``"fi"`` / ``"fs"``: the human-robot BRT pruner (``hj.pruners.human_pruner``) with the observed
   human positions, forward-invariant (Eq. 14-18) or feasible-set; with ``human_prediction_s`` > 0 each
   node is checked against the humans where they walk by the node's time at their observed velocities
   (our addition: the paper's text checks the humans where they were seen);
@@ -73,9 +73,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from navlab.hj.pruners import FIParams, clearance_field, human_pruner, obs_pruner
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
-from navlab.reach.pruners import FIParams, clearance_field, human_pruner, obs_pruner
 from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, place, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import (
@@ -143,7 +143,7 @@ class LatticePolicy:
                              f"reach.precompute.load_human_brt (built by `dvc repro hj_grids`)")
         if self.human_mode == "obs" and self.static.name != "OBS":
             raise ValueError("human_mode 'obs' adds the humans to the OBS clearance field: pass an OBS static "
-                             "pruner (reach.pruners.obs_pruner)")
+                             "pruner (hj.pruners.obs_pruner)")
         self._table = primitive_table(self.spec)
         self._obs = obs_pruner(self.room, self.robot_radius)
         if self.human_mode == "obs":

@@ -1,7 +1,7 @@
 """The HJ closed-loop claims as curves over a setting the paper does not state (issue 26; the sweep is
-``metrics.hj_sweeps``): report rows per point, and each claim's verdict as the range of settings where it holds.
+``hj.sweeps``): report rows per point, and each claim's verdict as the range of settings where it holds.
 
-A claim is checked at every point of its curve with the table's own rule (``metrics.hj_closed_loop``'s
+A claim is checked at every point of its curve with the table's own rule (``hj.closed_loop``'s
 counts); its verdict is "holds" where it holds at every point, "does not hold" where at none, and
 "inconclusive" in between, with the range that decides it stated ("holds at <= 3,000 expansions per
 re-plan"), so a reader sees whether the paper's finding is wrong or sits at another setting.
