@@ -26,7 +26,7 @@ from navlab.hj.timing import expansion_inputs, in_search_seconds, time_calls
 from navlab.reach.lookup import to_goal_frame
 from navlab.reach.precompute import build_hj_grids
 from navlab.search.lattice_reference import astar_reference
-from navlab.search.lattice_search import Goal, search
+from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
 PAPER_US = {"TTR": 18.7, "BRT": 24.7}  # Table VII: 0.187 s and 0.247 s per 10,000 calls
 
@@ -88,15 +88,17 @@ def main() -> None:
     spec, room = planner.spec, planner.room
     goal_obj = Goal(goal, 0.2, params.hj.planner.goal_max_speed)
     collision = planner.collision("BRT")  # the swept collision check a BRT search adds (as the tables run it)
-    search(spec, room.bounds, np.array([1.0, 1.0, 0.0, 0.0]), goal_obj, ours_h, static=ours_p, collision=collision,
-           table=planner.table, max_expansions=10)  # compile outside the timing
+    search(spec, room.bounds, np.array([1.0, 1.0, 0.0, 0.0]), goal_obj, ours_h,
+           pruners=Pruners(static=ours_p, collision=collision), table=planner.table,
+           budget=Budget(max_expansions=10))  # compile outside the timing
     tot = {"ours": [0.0, 0.0, 0], "ref": [0.0, 0.0, 0]}
     brt_lookup, ttr_lookup = planner._brt, planner._ttr
     for k in range(args.tasks):
         start = np.array([1.0, 1.0 + 0.4 * k, 0.0, rng.uniform(-math.pi, math.pi)])
         w0, c0 = time.perf_counter(), time.process_time()
-        ours = search(spec, room.bounds, start, goal_obj, ours_h, static=ours_p, collision=collision,
-                      table=planner.table, max_expansions=args.max_expansions)
+        ours = search(spec, room.bounds, start, goal_obj, ours_h,
+                      pruners=Pruners(static=ours_p, collision=collision), table=planner.table,
+                      budget=Budget(max_expansions=args.max_expansions))
         w1, c1 = time.perf_counter(), time.process_time()
         cost, exp = astar_reference(spec, room.bounds, start, goal, 0.2, goal_obj.max_speed,
                                     lambda s: ttr_lookup(s, np.asarray(goal)),

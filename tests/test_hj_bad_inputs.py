@@ -28,7 +28,7 @@ from navlab.reach.store import StoredGrid
 from navlab.search.dubins_lattice import LatticeSpec, primitive_table, successor_samples
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_reference import astar_reference
-from navlab.search.lattice_search import Costmap, Goal, StaticPruner, search
+from navlab.search.lattice_search import Budget, Costmap, Goal, Pruners, StaticPruner, search
 from navlab.sim.receding_horizon import Observation
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
@@ -172,7 +172,8 @@ def test_costmap_refuses_nan_and_negative_weights_and_cells():
 def test_a_goal_inside_an_obstacle_is_refused_before_searching(pruner):
     """Before: the search spent its whole budget and said "expansion limit"."""
     with pytest.raises(ValueError, match=rf"goal \(1.5, 1.0\) .* wholly pruned by the {pruner.name} pruner"):
-        search(SPEC, ROOM.bounds, START, Goal((1.5, 1.0), 0.1, 0.25), HEURISTIC, static=pruner, max_expansions=3000)
+        search(SPEC, ROOM.bounds, START, Goal((1.5, 1.0), 0.1, 0.25), HEURISTIC,
+               pruners=Pruners(static=pruner), budget=Budget(max_expansions=3000))
 
 
 def test_a_goal_whose_centre_is_pruned_but_whose_disc_is_not_is_still_searched():
@@ -180,7 +181,8 @@ def test_a_goal_whose_centre_is_pruned_but_whose_disc_is_not_is_still_searched()
     the tolerance reaches free space."""
     goal = Goal((1.5, 1.0), 0.45, 0.25)
     assert OBS.values(np.array([[1.5, 1.0, 0.0, 0.0]]))[0] < 0
-    assert search(SPEC, ROOM.bounds, START, goal, dist_heuristic(goal.xy, SPEC.v_max, 0.45), static=OBS).found
+    assert search(SPEC, ROOM.bounds, START, goal, dist_heuristic(goal.xy, SPEC.v_max, 0.45),
+                  pruners=Pruners(static=OBS)).found
 
 
 @pytest.mark.parametrize("pruner", [OBS, BRT], ids=["OBS", "BRT"])
@@ -240,5 +242,6 @@ def test_non_finite_values_anywhere_raise_from_every_entry(data, n, s):
         human_pruner(HUMAN, sprinkled((data.draw(st.integers(1, 3)), 2)))
     task = sprinkled((6,), base=np.r_[START, GOAL.xy])  # start (x, y, v, θ) and goal (x, y)
     with pytest.raises(ValueError, match="finite"):
-        search(SPEC, ROOM.bounds, task[:4], Goal((task[4], task[5]), GOAL.tolerance, GOAL.max_speed), HEURISTIC,
-               static=data.draw(st.sampled_from([OBS, BRT])), max_expansions=200)
+        search(SPEC, ROOM.bounds, task[:4], Goal((task[4], task[5]), GOAL.tolerance, GOAL.max_speed),
+               HEURISTIC, pruners=Pruners(static=data.draw(st.sampled_from([OBS, BRT]))),
+               budget=Budget(max_expansions=200))

@@ -12,7 +12,7 @@ from navlab.hj.planning import plan_clearance
 from navlab.hj.pruners import field_error, obs_pruner
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primitive_table
-from navlab.search.lattice_search import Goal, search
+from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
 SPEC = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 9, 4, 0.2, 24)
 RADIUS = 0.285
@@ -107,8 +107,8 @@ def test_plans_never_fail_the_dense_check(seed):
         goal = Goal(tuple(goal_xy), 0.2, 0.25)
         for anytime in (False, True):
             result = search(SPEC, room.bounds, [*start, 0.0, rng.uniform(-math.pi, math.pi)], goal,
-                            dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance), static=obs, anytime=anytime,
-                            max_expansions=20000)
+                            dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance), pruners=Pruners(static=obs),
+                            budget=Budget(anytime=anytime, max_expansions=20000))
             found += result.found
             assert not result.found or plan_clearance(room, RADIUS, SPEC, result) > 0.0
     assert found > 10

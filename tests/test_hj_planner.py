@@ -31,7 +31,7 @@ from navlab.search.dubins_lattice import (
     successor_samples,
 )
 from navlab.search.lattice_reference import astar_reference
-from navlab.search.lattice_search import Goal, search, zero_heuristic
+from navlab.search.lattice_search import Budget, Goal, Pruners, search, zero_heuristic
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
 SPEC = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 0.5, 3, 3, 0.25, 8, snap_states=True)
@@ -107,10 +107,10 @@ def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params):
         for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance)):
             assert (h(states) <= to_go + 1e-9).all(), f"{h.name} is not admissible on this lattice"
         for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance), ttr_heuristic(ttr, goal.xy)):
-            res = search(SPEC, ROOM.bounds, states[0], goal, h, static=obs)
+            res = search(SPEC, ROOM.bounds, states[0], goal, h, pruners=Pruners(static=obs))
             assert res.status == "found" and res.cost == pytest.approx(best), (h.name, start)
         ana = search(SPEC, ROOM.bounds, states[0], goal, dist_heuristic(goal.xy, v_snap, goal.tolerance),
-                     static=obs, anytime=True)
+                     pruners=Pruners(static=obs), budget=Budget(anytime=True))
         assert ana.cost == pytest.approx(best)  # OPEN ran empty: the last solution is optimal
         assert ana.solution_costs == sorted(ana.solution_costs, reverse=True)
         assert all(b >= 1.0 - 1e-9 for b in ana.solution_bounds)  # G / min(g + h) over OPEN, h admissible
@@ -128,7 +128,7 @@ def costs_to_go():
                       rng.uniform(-math.pi, math.pi)])
         if obs.values(s[None])[0] <= 0:
             continue
-        res = search(spec, ROOM.bounds, s, GOAL, zero_heuristic(), static=obs)
+        res = search(spec, ROOM.bounds, s, GOAL, zero_heuristic(), pruners=Pruners(static=obs))
         if res.found:
             starts.append(s)
             costs.append(res.cost)
@@ -223,7 +223,7 @@ def test_compiled_astar_matches_the_plain_python_reference():
     spec = dataclasses.replace(SPEC, snap_states=False)
     obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance)
     for start in ([0.4, 1.0, 0.0, 0.0], [0.4, 0.4, 0.0, math.pi], [1.0, 1.7, 0.25, -1.0]):
-        ours = search(spec, ROOM.bounds, start, GOAL, h, static=obs)
+        ours = search(spec, ROOM.bounds, start, GOAL, h, pruners=Pruners(static=obs))
         cost, expansions = astar_reference(spec, ROOM.bounds, start, GOAL.xy, GOAL.tolerance, GOAL.max_speed, h,
                                            _swept(obs, spec))
         assert ours.cost == pytest.approx(cost)
@@ -242,7 +242,7 @@ def test_a_plan_from_an_off_level_speed_is_the_trajectory_the_car_drives():
     obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, spec.v_max, GOAL.tolerance)
     for v in (0.1, 0.2, 0.33, 0.45):
         start = np.array([0.4, 1.0, v, 0.3])
-        result = search(spec, ROOM.bounds, start, GOAL, h, static=obs)
+        result = search(spec, ROOM.bounds, start, GOAL, h, pruners=Pruners(static=obs))
         assert result.found and abs(result.controls[0, 0] - spec.controls[:, 0]).min() > 1e-3
         n = spec.samples_per_step * spec.micro_steps
         dense = densify(spec, start, result.controls)
@@ -288,7 +288,8 @@ def test_returned_plans_are_chains_the_pruner_accepted():
     improved = 0
     for _ in range(12):
         start = np.array([rng.uniform(0.2, 1.0), rng.uniform(0.2, 1.8), 0.0, rng.uniform(-math.pi, math.pi)])
-        result = search(spec, ROOM.bounds, start, GOAL, h, static=obs, anytime=True, max_expansions=20000)
+        result = search(spec, ROOM.bounds, start, GOAL, h, pruners=Pruners(static=obs),
+                        budget=Budget(anytime=True, max_expansions=20000))
         if not result.found:
             continue
         improved += len(result.solution_costs) > 1

@@ -1,4 +1,4 @@
-"""HJ-search (Hu, Siu, Chen 2026): the track's planning, closed loop and paper tables, on the level sets of ``reach``.
+"""HJ-search (Hu, Siu, Chen 2026): planning, closed loop and tables on the level sets of ``reach``.
 
 The HJ track's package beside ``surenav`` and ``pacer`` (issue 27 item 1): ``guidance`` (heuristics) and
 ``pruners`` (OBS, static BRT, FS/FI human BRT) turn ``reach``'s stored value functions into what the compiled

@@ -81,8 +81,10 @@ from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import (
     NO_HUMAN,
     NO_STATIC,
+    Budget,
     Goal,
     Heuristic,
+    Pruners,
     StaticPruner,
     require_finite,
     search,
@@ -195,9 +197,10 @@ class LatticePolicy:
         at_rest = state[2] == 0.0
         spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
         budget = spent + self.max_expansions
-        result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
-                        self._heuristics[goal], static=static, collision=self._collision(static), human=human,
-                        max_expansions=budget, anytime=self.anytime, table=self._table)
+        result = search(self.spec, self.room.bounds, state,
+                        Goal(goal, self.goal_tolerance, self.goal_max_speed), self._heuristics[goal],
+                        pruners=Pruners(static=static, collision=self._collision(static), human=human),
+                        table=self._table, budget=Budget(anytime=self.anytime, max_expansions=budget))
         self.expansions.append(result.expansions - spent)  # this period's share
         go_on = (at_rest and not result.found and result.status == "expansion limit"
                  and budget < self.rest_periods * self.max_expansions)

@@ -27,7 +27,16 @@ from navlab.reach.brt_margin import measure_static_brt_margin
 from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
 from navlab.search.dubins_lattice import LatticeSpec, densify, primitive_table
 from navlab.search.lattice_fields import GridField
-from navlab.search.lattice_search import NO_STATIC, Costmap, Goal, SearchResult, search, zero_heuristic
+from navlab.search.lattice_search import (
+    NO_STATIC,
+    Budget,
+    Costmap,
+    Goal,
+    Pruners,
+    SearchResult,
+    search,
+    zero_heuristic,
+)
 
 HEURISTICS = ("Dist", "map Dist", "TTR", "map TTR")
 PRUNERS = ("none", "OBS", "BRT")
@@ -142,9 +151,9 @@ class Planner:
         tol = self.p.goal_tolerance_anastar_m if anytime else self.p.goal_tolerance_astar_m
         goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
         res = search(self.spec, self.room.bounds, start, goal, self.heuristic(heuristic, goal_xy, tol),
-                     static=self.pruner(pruner), collision=self.collision(pruner), costmap=self.costmap,
-                     anytime=anytime, table=self.table,
-                     max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions)
+                     pruners=Pruners(static=self.pruner(pruner), collision=self.collision(pruner)),
+                     costmap=self.costmap, table=self.table,
+                     budget=Budget(anytime=anytime, max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions))
         clearance = plan_clearance(self.room, self.robot.radius_m, self.spec, res)
         if res.found and clearance <= 0.0 and pruner != "none":
             raise AssertionError(f"{algorithm} with {heuristic} + {pruner} from {tuple(np.round(start, 3))} returned a "
@@ -168,9 +177,10 @@ class Planner:
         over, worst, solved = 0, 0.0, 0
         for start, goal_xy in tasks:
             goal = Goal(tuple(map(float, goal_xy)), tol, self.p.goal_max_speed)
-            res = search(self.spec, self.room.bounds, start, goal, zero_heuristic(), static=self.pruner(pruner),
-                         collision=self.collision(pruner), costmap=self.costmap, table=self.table,
-                         max_expansions=self.p.astar_max_expansions)
+            res = search(self.spec, self.room.bounds, start, goal, zero_heuristic(),
+                         pruners=Pruners(static=self.pruner(pruner), collision=self.collision(pruner)),
+                         costmap=self.costmap, table=self.table,
+                         budget=Budget(max_expansions=self.p.astar_max_expansions))
             if not res.found:
                 continue
             solved += 1

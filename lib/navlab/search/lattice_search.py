@@ -24,6 +24,7 @@ import copy
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -194,6 +195,31 @@ NO_STATIC = StaticPruner(S_NONE, GridField.empty(2), np.zeros(2), "none")
 NO_HUMAN = HumanPruner(U_NONE, GridField.empty(3), np.zeros(11), np.zeros((0, 4)), "none")
 
 
+class Pruners(NamedTuple):
+    """What a search prunes with. ``static``: the paper's pruner (OBS or BRT); ``collision``: an OBS pruner whose
+    conservative swept check (``lattice_fields.swept_unsafe``) every segment must pass as well, so that a
+    BRT-pruned plan, checked by the BRT only at its samples, never touches an obstacle between them (an OBS
+    ``static`` already sweeps); ``human``: the FS/FI human-robot BRT pruner."""
+
+    static: StaticPruner = NO_STATIC
+    collision: StaticPruner = NO_STATIC
+    human: HumanPruner = NO_HUMAN
+
+
+class Budget(NamedTuple):
+    """When a search stops. ``anytime=False``: A* until the goal is popped or ``max_expansions``;
+    ``anytime=True``: ANA* until OPEN is empty (the last solution is optimal), ``max_expansions`` or
+    ``time_limit_s``."""
+
+    anytime: bool = False
+    max_expansions: int = 10**6
+    time_limit_s: float = math.inf
+
+
+NO_PRUNERS = Pruners()
+A_STAR = Budget()  # A* until the goal, at most 10^6 expansions
+
+
 @dataclass(frozen=True)
 class Goal:
     xy: tuple[float, float]
@@ -312,17 +338,18 @@ def _ana_key(G, g, h):
 
 
 @numba.njit(cache=True, error_model="numpy")  # no zero-division checks (and their error paths) in the loop
-def _search(anytime, start, goal, table, root, lattice, heur, static, collision, human, cost, limits):
+def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
     """The compiled A*/ANA* loop. Bundles (``search`` builds them): lattice (dt, cell_m, dims, snap); heur (kind,
-    field, par); static and collision (kind, field, cell minima, par) of two static pruners; human (kind,
-    field, par, humans); cost (use_cost, field, weight); limits (max_expansions, time_limit)."""
+    field, par); prune: static and collision (kind, field, cell minima, par) of two static pruners, then human
+    (kind, field, par, humans); cost (use_cost, field, weight); limits (anytime, max_expansions, time_limit)."""
     dt, cell_m, dims, snap = lattice
     hk, hf, hp = heur
+    static, collision, human = prune
     sk, sf, sb, sp = static
     ck, cf_, cb, cp = collision
     uk, uf, up, humans = human
     use_cost, cf, cost_w = cost
-    max_expansions, time_limit = limits
+    anytime, max_expansions, time_limit = limits
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
     n_cells = nx * ny * nlev * nbins
@@ -559,23 +586,15 @@ def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
                          f"so no search can reach it; move the goal")
 
 
-def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *,
-           static: StaticPruner = NO_STATIC, collision: StaticPruner = NO_STATIC, human: HumanPruner = NO_HUMAN,
-           costmap: Costmap = Costmap(), anytime: bool = False, max_expansions: int = 10**6,
-           time_limit_s: float = math.inf, table: np.ndarray | None = None) -> SearchResult:
-    """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)).
+def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *, pruners: Pruners = NO_PRUNERS,
+           costmap: Costmap = Costmap(), budget: Budget = A_STAR, table: np.ndarray | None = None) -> SearchResult:
+    """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)),
+    pruning with ``pruners`` and stopping by ``budget`` (A* or ANA*).
 
     The start's speed need not be a level: its first step then uses ``first_step``'s primitives (the
     returned first control carries their adjusted acceleration), every later step the level table.
-
-    ``static``: the paper's pruner (OBS or BRT); ``collision``: an OBS pruner whose conservative swept
-    check (``lattice_fields.swept_unsafe``) every segment must pass as well, so that a BRT-pruned plan,
-    checked by the BRT only at its samples, never touches an obstacle between them (an OBS ``static``
-    already sweeps).
-
-    ``anytime=False``: A* until the goal is popped or ``max_expansions``. ``anytime=True``: ANA* until
-    OPEN is empty (the last solution is optimal), ``max_expansions`` or ``time_limit_s``.
     """
+    static, collision, human = pruners
     start = np.asarray(start, np.float64)
     if start.shape != (4,) or not np.isfinite(start).all():
         raise ValueError(f"start must be a finite (x, y, v, θ), got {start!r}")
@@ -596,12 +615,13 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
     root, root_controls = first_step(spec, float(start[2]))
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
-    out = _search(anytime, start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
+    out = _search(start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
                   (heuristic_.kind, heuristic_.field, heuristic_.par),
-                  (static.kind, static.field, static.lower, static.par),
-                  (collision.kind, collision.field, collision.lower, collision.par),
-                  (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64)),
-                  (costmap.field is not None, cf, float(costmap.weight)), (int(max_expansions), float(time_limit_s)))
+                  ((static.kind, static.field, static.lower, static.par),
+                   (collision.kind, collision.field, collision.lower, collision.par),
+                   (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
+                  (costmap.field is not None, cf, float(costmap.weight)),
+                  (bool(budget.anytime), int(budget.max_expansions), float(budget.time_limit_s)))
     status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
     found = status == FOUND
     states, cost = replay(spec, table, start, prims, costmap, root) if found else (start[None], math.inf)

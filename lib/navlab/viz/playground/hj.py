@@ -44,7 +44,16 @@ from navlab.maps.rooms import Room, load_room
 from navlab.reach.brt_margin import MARGINS_SUBDIR
 from navlab.reach.precompute import load_human_brt, load_static_brt
 from navlab.search.dubins_lattice import place, primitive_table
-from navlab.search.lattice_search import NO_HUMAN, NO_STATIC, Goal, SearchResult, StaticPruner, search
+from navlab.search.lattice_search import (
+    NO_HUMAN,
+    NO_STATIC,
+    Budget,
+    Goal,
+    Pruners,
+    SearchResult,
+    StaticPruner,
+    search,
+)
 from navlab.sim.humans import StraightWalker
 from navlab.sim.receding_horizon import Run, Trip, run_patrol
 from navlab.viz.hj_closed_loop import patrol_gif
@@ -434,9 +443,9 @@ class HJPlayground:
         room = self.rooms(setup.room)
         start = np.array([setup.start[0], setup.start[1], 0.0, math.radians(setup.start[2])])
         result = search(self.loop.spec, room.bounds, start, Goal(setup.goal, tolerance, p.goal_max_speed),
-                        self.loop.heuristic_for(setup.heuristic)(setup.goal), static=static, collision=collision,
-                        human=human, anytime=anytime, table=self.table,
-                        max_expansions=p.anastar_max_expansions if anytime else p.astar_max_expansions)
+                        self.loop.heuristic_for(setup.heuristic)(setup.goal),
+                        pruners=Pruners(static=static, collision=collision, human=human), table=self.table,
+                        budget=Budget(anytime=anytime, max_expansions=p.anastar_max_expansions if anytime else p.astar_max_expansions))
         return PlanOutcome(result, plan_clearance(room, self.robot.radius_m, self.loop.spec, result))
 
     def _scene(self, room_name: str, speed: float) -> str:
