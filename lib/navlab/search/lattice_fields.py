@@ -337,14 +337,15 @@ def adaptive_gamma(par, x, y, th, hx, hy):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def human_prunes(kind, fv, m, par, humans, x0, y0, v0, th0, t0, duration, samples, n):
-    """True when any of the ``n`` segment samples (last = the successor) from the parent (x0, y0, v0, θ0)
-    violates a human pruner.
+def human_prunes(kind, fv, m, par, humans, parent, t0, duration, samples, n):
+    """True when any of the ``n`` segment samples (last = the successor) from the ``parent`` state
+    (x0, y0, v0, θ0) violates a human pruner.
 
     humans: (H, 4) observed x, y, vx, vy. The parent is ``t0`` s after the observation and sample i at
     t0 + (i + 1)·duration/n; each is checked against the human where it walks by then at its observed
     velocity, the prediction held after ``par[10]`` s (0: the humans frozen where they were seen)."""
     margin, dt, horizon = par[2], par[3], par[10]
+    x0, y0, v0, th0 = parent[0], parent[1], parent[2], parent[3]
     for h in range(humans.shape[0]):
         for i in range(n):
             t = min(t0 + (i + 1) * duration / n, horizon)
@@ -413,8 +414,8 @@ def human_prune_batch(kind, f, par, humans, parents, samples, t0, durations):
     fv, m = field_meta(f)
     out = np.zeros(samples.shape[0], np.bool_)
     for i in range(samples.shape[0]):
-        out[i] = human_prunes(kind, fv, m, par, humans, parents[i, 0], parents[i, 1], parents[i, 2],
-                              parents[i, 3], t0[i], durations[i], samples[i], samples.shape[1])
+        out[i] = human_prunes(kind, fv, m, par, humans, parents[i], t0[i], durations[i], samples[i],
+                              samples.shape[1])
     return out
 
 

@@ -504,7 +504,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
-            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, sx, sy, sv_, sth, tn[cur], dt, samples, n_samp):
+            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, st[cur], tn[cur], dt, samples, n_samp):
                 continue
             h = heuristic(hk, hv, hm, hp, kx, ky, ev, kth)
             h_evals += 1
