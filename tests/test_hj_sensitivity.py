@@ -34,9 +34,10 @@ def test_budget_claims_hold_only_where_every_point_does():
     dense = {1500: {"Dist + OBS": 0, "Dist + BRT": 1, "TTR + OBS": 0, "TTR + BRT": 6},
              6000: {"Dist + OBS": 0, "Dist + BRT": 2, "TTR + OBS": 4, "TTR + BRT": 6}}
     claims = hs.budget_claims(_room_rows(hallway, "Long Hallway", 9) + _room_rows(dense, "Dense Room", 6))
-    assert claims[0].startswith("in the Long Hallway TTR succeeds more often than Dist under both pruners: "
-                                "inconclusive (holds at <= 1,500")
-    assert claims[1].startswith("in the Dense Room only TTR + BRT succeeds on every trip: holds (holds at every")
+    assert claims[0].claim == "in the Long Hallway TTR succeeds more often than Dist under both pruners"
+    assert claims[0].verdict == "inconclusive" and claims[0].ours.startswith("holds at <= 1,500")
+    assert claims[1].claim == "in the Dense Room only TTR + BRT succeeds on every trip"
+    assert claims[1].verdict == "holds" and claims[1].ours.startswith("holds at every")
 
 
 def test_loop_claims_follow_each_axis_with_the_others_at_the_tables_own():
@@ -48,12 +49,13 @@ def test_loop_claims_follow_each_axis_with_the_others_at_the_tables_own():
                 rows.append({"method": method, "scenario": scenario, "replan_hz": hz, "human_noise_m": noise,
                              "human_prediction_s": ahead, "success": k, "runs": 5})
     claims = hs.loop_claims(rows, own)
-    face = [c for c in claims if c.startswith("FI-BRT clears every Face-to-Face")]
+    face = [c for c in claims if c.claim.startswith("FI-BRT clears every Face-to-Face")]
     assert len(face) == 2  # the rate and the prediction axes have two points each; noise has one
-    assert "along Hz re-planning: DOES NOT HOLD" in face[0]
-    assert "along s of human prediction: inconclusive (holds at <= 0 s" in face[1]
-    zig = [c for c in claims if c.startswith("FI-BRT and FS-BRT clear every Zig-Zag")]
-    assert all(": holds (" in c for c in zig)
+    assert face[0].claim.endswith("along Hz re-planning") and face[0].verdict == "does not hold"
+    assert face[1].claim.endswith("along s of human prediction") and face[1].verdict == "inconclusive"
+    assert face[1].ours.startswith("holds at <= 0 s")
+    zig = [c for c in claims if c.claim.startswith("FI-BRT and FS-BRT clear every Zig-Zag")]
+    assert zig and all(c.verdict == "holds" for c in zig)
 
 
 def test_sweep_points_share_the_tables_own_setting_once():

@@ -9,6 +9,7 @@ import pytest
 from navlab.hj.paper import PAPER
 from navlab.hj.planning import TaskResult
 from navlab.hj.tables import PAPER_CALLS, table1, table2, table5, table6, table7
+from navlab.metrics.tables import Claim
 
 EXCESS = {"starts": 3, "over": 1, "max_excess_s": 0.25}
 
@@ -27,8 +28,8 @@ def test_table1_states_its_claims_failures_and_the_ttr_excess():
     assert (table.table_id, table.paper_ref) == ("table1_heuristics_astar", "HJ-search Table I")
     assert [r["method"] for r in table.rows] == list(RESULTS)
     assert table.rows[1]["time_s"] == pytest.approx(0.9)  # the method's total search seconds
-    assert "no plan fails the dense check: DOES NOT HOLD (A* w/ Dist 1, A* w/ TTR 0)" in table.claims
-    assert all(c in table.notes for c in table.claims)
+    assert Claim("no plan fails the dense check", "does not hold", "A* w/ Dist 1, A* w/ TTR 0") in table.claims
+    assert all(str(c) in table.notes for c in table.claims)
     assert "at these 3 starts: above it at 1, by at most 0.250 s" in table.notes
     assert "1 without a plan, 1 failing the dense check" in table.notes
 
@@ -38,7 +39,7 @@ def test_table2_names_the_anytime_budget_in_expansions():
     table = table2(results, EXCESS, seed=0, max_expansions=6000)
     assert table.table_id == "table2_heuristics_anastar" and table.paper_rows == PAPER["table2_heuristics_anastar"]
     assert "6,000" in table.notes or "6000" in table.notes
-    assert all(c in table.notes for c in table.claims)
+    assert all(str(c) in table.notes for c in table.claims)
 
 
 def test_table7_scales_the_papers_totals_to_our_call_count():
@@ -50,7 +51,7 @@ def test_table7_scales_the_papers_totals_to_our_call_count():
         assert ours["total_s"] == pytest.approx(theirs["total_s"] * 2500 / PAPER_CALLS)
         assert ours["per_state_ns"] == pytest.approx(theirs["total_s"] / PAPER_CALLS / theirs["states"] * 1e9)
     assert "TTR (81, 81, 11, 36), BRT (97, 55, 11, 36)" in table.notes
-    assert all(c in table.notes for c in table.claims) and len(table.claims) >= 2
+    assert all(str(c) in table.notes for c in table.claims) and len(table.claims) >= 2
 
 
 def test_table5_reads_its_pairs_and_budget_from_the_planner_params(smoke_params):
@@ -59,7 +60,7 @@ def test_table5_reads_its_pairs_and_budget_from_the_planner_params(smoke_params)
     t5 = smoke_params.hj.planner.table5
     assert table.table_id == "table5_static_general" and [r["method"] for r in table.rows] == list(results)
     assert table.notes.startswith(f"{t5.pairs} pairs drawn with seed hj.seed") and "BRT margin 0.0123" in table.notes
-    assert all(c in table.notes for c in table.claims)
+    assert all(str(c) in table.notes for c in table.claims)
 
 
 def closed_loop_row(method, scenario, success, collisions, time_s, time_all_s):
@@ -76,10 +77,10 @@ def test_table6_decides_the_head_on_claim_and_quotes_the_speed(smoke_params):
             closed_loop_row("OBS", "Zig-Zag", 3, 2, 29.0, 29.0)]
     speed = {"simulated_s": 300.0, "wall_s": 100.0, "cpu_s": 90.0, "plan_median_ms": 17.9}
     table = table6(rows, smoke_params.hj.dynamic, "RULES.", speed)
-    assert table.claims[0].startswith("FI-BRT avoids the head-on collisions that FS-BRT and OBS do not (Face-to-Face): holds")
-    assert all(c.split(":")[1].strip().startswith("holds") for c in table.claims), table.claims
+    assert table.claims[0].claim == "FI-BRT avoids the head-on collisions that FS-BRT and OBS do not (Face-to-Face)"
+    assert all(c.verdict == "holds" for c in table.claims), table.claims
     assert "RULES." in table.notes and "300 s simulated in 100 s wall" in table.notes and "(3.0x real time" in table.notes
-    assert all(c in table.notes for c in table.claims)
+    assert all(str(c) in table.notes for c in table.claims)
 
 
 @pytest.mark.parametrize("table_id", ["table6_dynamic", "table8_rooms", "table9_humans"])
@@ -96,5 +97,5 @@ def test_the_committed_closed_loop_reports_state_the_claims_their_rows_decide(ta
              "table8_rooms": lambda rows: tables.table8(rows, smoke_params.hj.dynamic, "", speed, 1.0),
              "table9_humans": lambda rows: tables.table9(rows, smoke_params.hj.dynamic, "", speed)}[table_id]
     table = build(report["rows"])
-    assert table.claims and all(c in report["notes"] for c in table.claims)
+    assert table.claims and all(str(c) in report["notes"] for c in table.claims)
     assert table.columns == report["columns"]

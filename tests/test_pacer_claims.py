@@ -70,7 +70,7 @@ def test_seen_and_unseen_verdicts_follow_the_paired_intervals():
 def test_phase1_and_synthetic_claims():
     maps = rng(2, "maps").uniform(0.2, 0.6, 20)
     follows = phase1_cannot_follow_inverted((0.48, (0.40, 0.56)), maps, maps + 0.3)
-    assert follows.verdict == "holds" and "0.480" in follows.evidence
+    assert follows.verdict == "holds" and "0.480" in follows.ours
     assert phase1_cannot_follow_inverted((0.80, (0.72, 0.88)), maps, maps).verdict == "does not hold"
     assert phase1_cannot_follow_inverted((0.60, (0.50, 0.70)), maps, maps).verdict == "inconclusive"
     jitter = 0.01 * rng(3, "j").standard_normal(20)
@@ -103,9 +103,9 @@ def test_gap_closed_is_the_share_of_the_chance_to_ceiling_gap():
     chance = np.array([0.2, 0.3, 0.25, 0.2] * 5)
     ceiling = chance + 0.4
     closes = gap_closed("m", chance + 0.36, chance, ceiling, "seen", "realistic")  # 0.9 of the gap on every map
-    assert closes.verdict == "holds" and "0.90 of the gap" in closes.evidence
+    assert closes.verdict == "holds" and "0.90 of the gap" in closes.ours
     short = gap_closed("m", chance + 0.2, chance, ceiling, "seen", "realistic")  # half the gap
-    assert short.verdict == "does not hold" and "0.50 of the gap" in short.evidence
+    assert short.verdict == "does not hold" and "0.50 of the gap" in short.ours
     noisy = gap_closed("m", chance + np.tile([0.0, 0.6], 10), chance, ceiling, "seen")  # 0.75 on average, spread
     assert noisy.verdict == "inconclusive"
     assert gap_closed("m", chance, chance, chance, "seen").verdict == "inconclusive"  # no room to close

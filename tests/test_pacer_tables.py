@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from navlab.core.seeding import rng
-from navlab.pacer.claims import PAPER, gap_closed, seen_claims, unseen_claims
+from navlab.pacer.claims import PAPER, gap_closed, seen_claims, sentence, unseen_claims
 from navlab.pacer.experiments import Agreement, NavigationResult
 from navlab.pacer.tables import LIMITED, ORACLE, UNIFORM, navigation_tables, phase_tables
 
@@ -39,10 +39,10 @@ def test_navigation_tables_state_each_claim_and_the_gap(smoke_params):
                 gap_closed("PACER", results["seen"].shares["PACER"][:, 0], results["seen"].shares[UNIFORM][:, 0],
                            results["seen"].shares[ORACLE][:, 0], "seen", "realistic")]
     assert list(seen.claims) == expected
-    assert [c.statement for c in unseen.claims] == [c.statement for c in unseen_claims(results["unseen"].shares)] + [
+    assert [c.claim for c in unseen.claims] == [c.claim for c in unseen_claims(results["unseen"].shares)] + [
         "PACER closes at least 75% of the chance-to-oracle gap (unseen, realistic)"]
     for table in (seen, unseen):
-        assert all(str(c) in table.notes for c in table.claims)
+        assert all(sentence(c) in table.notes for c in table.claims)
     assert "0.910 on D_real validation patches" in seen.notes and "Classifier: null" in unseen.notes
     # the PACER row sits 0.17 above chance of a 0.37 gap: well short of 75%, and said so
     assert expected[-1].verdict == "does not hold"
@@ -79,13 +79,13 @@ def test_phase_tables_decide_phase_one_from_its_inverted_agreement(smoke_params,
     assert [t.table_id for t in tables] == ["table3_phases_seen", "table4_phases_unseen", "table5_margin_ranking",
                                             "context_following"]
     table3, table4, table5, following = tables
-    assert table3.claims[0].statement == "phase 1 (D_real) cannot follow inverted preferences"
+    assert table3.claims[0].claim == "phase 1 (D_real) cannot follow inverted preferences"
     assert table3.claims[0].verdict == verdict
     assert len(table3.claims) == 5 and len(table4.claims) == 5  # phase 1 / synthetic + 2 models x 2 preferences
     assert table4.claims[0].verdict == "holds"  # D_synthetic 0.50 against 0.30 and 0.40 on every map set
     assert [c.verdict for c in table5.claims] == ["holds", "holds"]
     for table in (table3, table4, table5):
-        assert all(str(c) in table.notes for c in table.claims)
+        assert all(sentence(c) in table.notes for c in table.claims)
     assert {r["preference"] for r in table3.rows} == {"realistic", "inverted"}
     assert len(table3.rows) == 2 * len(lows)
     assert "on each set is met after 300 optimiser steps" in following.notes  # D_synthetic 0.90 on every set

@@ -17,6 +17,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from navlab.hj.paper import bootstrap_mean, wilson
+from navlab.metrics.tables import Claim
 from navlab.sim.receding_horizon import Run
 
 PAPER = {
@@ -148,13 +149,12 @@ def detour_start(run: Run, line_start, line_end, lateral_m: float) -> dict | Non
             "distance_to_human_m": float(np.hypot(*(traj[i, 1:3] - human)))}
 
 
-def check_claims(table_id: str, rows: list[dict]) -> list[str]:
-    """The paper's claims for one closed-loop table, each 'holds' / 'DOES NOT HOLD' with our numbers."""
+def check_claims(table_id: str, rows: list[dict]) -> list[Claim]:
+    """The paper's claims for one closed-loop table, each holding or not, with our numbers."""
     out = []
 
     def claim(text, ok, detail, why=""):
-        because = f"; why: {why}" if why and not ok else ""
-        out.append(f"{text}: {'holds' if ok else 'DOES NOT HOLD'} ({detail}{because})")
+        out.append(Claim.of(text, bool(ok), detail, why))
 
     def on_plans(rs):
         """Where the contacts began: on an accepted plan or braking without one."""

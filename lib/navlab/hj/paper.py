@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
+from navlab.metrics.tables import Claim
 
 PAPER = {
     "table1_heuristics_astar": [
@@ -156,13 +157,13 @@ def compare_table7(rows: list[dict]) -> list[dict]:
     return out
 
 
-def check_claims(table_id: str, rows: list[dict]) -> list[str]:
-    """The paper's qualitative claims for one table, each as 'holds' / 'does not hold' with our numbers."""
+def check_claims(table_id: str, rows: list[dict]) -> list[Claim]:
+    """The paper's qualitative claims for one table, each holding or not, with our numbers."""
     by = {r.get("method", r.get("component")): r for r in rows}
     out = []
 
     def claim(text, ok, detail):
-        out.append(f"{text}: {'holds' if ok else 'DOES NOT HOLD'} ({detail})")
+        out.append(Claim.of(text, ok, detail))
 
     if table_id == "table1_heuristics_astar":
         d, t = by["A* w/ Dist"], by["A* w/ TTR"]

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from navlab.metrics.tables import Claim
+
 BUDGET_COLUMNS = ["method", "room", "setting", "budget", "success", "trips", "success_rate", "success_rate_ci", "wall_hits",
                   "deadlocks", "timeouts"]
 LOOP_COLUMNS = ["method", "scenario", "setting", "replan_hz", "human_noise_m", "human_prediction_s", "success", "runs",
@@ -60,10 +62,10 @@ def holding_range(values: Sequence[float], holds: Sequence[bool], unit: str) -> 
     return f"holds at {', '.join(_fmt(x) for x, ok in zip(v, h, strict=True) if ok)} {unit} only (of {span})"
 
 
-def _verdict(text: str, holds: Sequence[bool], detail: str, counts: str) -> str:
-    """One claim sentence in the reports' form ("text: holds (where; the counts)"), verdict over the curve."""
-    verdict = "holds" if all(holds) else "DOES NOT HOLD" if not any(holds) else "inconclusive"
-    return f"{text}: {verdict} ({detail}; successes {counts})"
+def _verdict(text: str, holds: Sequence[bool], detail: str, counts: str) -> Claim:
+    """The claim over the curve: holds at every point, at none, or inconclusive (where; the counts)."""
+    verdict = "holds" if all(holds) else "does not hold" if not any(holds) else "inconclusive"
+    return Claim(text, verdict, f"{detail}; successes {counts}")
 
 
 def _success(rows: Sequence[dict], **match) -> dict[str, int]:
@@ -80,7 +82,7 @@ def _counts(cells: Sequence[tuple[float, list[dict]]], methods: Sequence[str], n
     return f"{', '.join(methods)}: " + "; ".join(parts)
 
 
-def budget_claims(rows: Sequence[dict]) -> list[str]:
+def budget_claims(rows: Sequence[dict]) -> list[Claim]:
     """Table VIII's two claims along the per-re-plan budget; the why gives every row's successes per point."""
     budgets = sorted({r["budget"] for r in rows})
     methods = ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")
@@ -108,7 +110,7 @@ def loop_curve(rows: Sequence[dict], axis: str, own: tuple[float, float, float])
     return [r for r in rows if all(r[k] == v for k, v in others.items())]
 
 
-def loop_claims(rows: Sequence[dict], own: tuple[float, float, float]) -> list[str]:
+def loop_claims(rows: Sequence[dict], own: tuple[float, float, float]) -> list[Claim]:
     """Table VI's two claims along each of the three axes (``loop_curve``); the why gives every row's
     successful runs per point."""
     rules = (

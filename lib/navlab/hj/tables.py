@@ -64,7 +64,7 @@ def _search_table(table_id: str, rows: list[dict], shown: list[dict], setup: str
     """Tables I-V: the ``shown`` rows (``astar_rows`` or ``ana_rows`` of ``rows``), the claims ``check_claims``
     decides on ``claim_rows`` (default: ``shown``), and notes: the set-up, the claims, the failure modes."""
     claims = check_claims(table_id, shown if claim_rows is None else claim_rows)
-    notes = setup + " Claims: " + "; ".join(claims) + ". " + failure_modes(rows)
+    notes = setup + " Claims: " + "; ".join(map(str, claims)) + ". " + failure_modes(rows)
     columns = ASTAR_COLUMNS if table_id in ("table1_heuristics_astar", "table3_pruning_astar") else ANA_COLUMNS
     return Table(table_id, SEARCH_REFS[table_id], columns, shown, PAPER[table_id], notes, claims)
 
@@ -102,7 +102,7 @@ def table7(rows: Sequence[dict], calls: int, grid_shapes: tuple[tuple[int, ...],
              f"TTR {grid_shapes[0]}, BRT {grid_shapes[1]}. Wall-clock on the machine that ran "
              "this notebook (shared CPUs inflate it) except in_search_cpu_per_state_ns (CPU time of the compiled loop "
              "the search runs, per state it evaluated; a pruner stops a segment at its first failing sample); "
-             "single-run timings, no CI. Claims: " + "; ".join(claims))
+             "single-run timings, no CI. Claims: " + "; ".join(map(str, claims)))
     return Table("table7_compute", "HJ-search Table VII", TABLE7_COLUMNS, list(rows), paper_rows, notes, claims)
 
 
@@ -142,7 +142,7 @@ def _loop_table(table_id: str, paper_ref: str, columns: list[str], rows: Sequenc
     them, and notes: the set-up, then the claims."""
     claims = hj_closed_loop.check_claims(table_id, list(rows))
     return Table(table_id, paper_ref, columns, list(rows), hj_closed_loop.PAPER[table_id],
-                 setup + "Claims: " + "; ".join(claims), claims)
+                 setup + "Claims: " + "; ".join(map(str, claims)), claims)
 
 
 def table6(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float]) -> Table:
@@ -217,7 +217,7 @@ def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
              f"Hz; the table itself uses {c.max_expansions}); a car at rest lets its search run on for "
              f"up to {c.rest_periods} periods, so a search from rest gets up to that many budgets. "
              f"Success: trips without a wall hit, deadlock or timeout, Wilson 95% CIs. The paper states a time "
-             f"budget on its robot, not an expansion count. {rules} Claims: " + "; ".join(claims))
+             f"budget on its robot, not an expansion count. {rules} Claims: " + "; ".join(map(str, claims)))
     return Table("sensitivity_budget", "HJ-search Table VIII, as a curve", BUDGET_COLUMNS, rows, [], notes, claims)
 
 
@@ -233,7 +233,7 @@ def sensitivity_loop(results, dynamic: DynamicParams) -> Table:
              f"std of the observed human position, and how far ahead FI-/FS-BRT prune the humans along their "
              f"observed velocity (0 s: where seen, the paper's text). Success: every trip without contact, "
              f"deadlock or timeout, Wilson 95% CIs; collisions: human contacts over all runs (contacts_on_plan: "
-             f"those that began on a plan the pruner had accepted). Claims: " + "; ".join(claims))
+             f"those that began on a plan the pruner had accepted). Claims: " + "; ".join(map(str, claims)))
     return Table("sensitivity_loop", "HJ-search Table VI, as curves", LOOP_COLUMNS, rows, [], notes, claims)
 
 

@@ -19,12 +19,12 @@ call these functions and print what they return.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from navlab.core.seeding import rng
 from navlab.metrics.intervals import bootstrap_mean_ci, bootstrap_ratio_ci
+from navlab.metrics.tables import Claim
 
 PAR_MARGIN = 0.10  # "on par": the low-tier share differs by less than this, with 95% confidence
 CHANCE_MARGIN = 0.60  # "cannot follow": pair agreement not clearly above chance (CI's upper end below this)
@@ -82,14 +82,10 @@ GAP_TARGET = 0.75  # issue 24's goal: share of the chance-to-oracle gap the phas
 AGREEMENT_TARGET = 0.85  # issue 14's goal for the default phase-3 model on each of the four sets (never tuned to)
 
 
-@dataclass(frozen=True)
-class Claim:
-    statement: str
-    verdict: str  # "holds", "does not hold" or "inconclusive"
-    evidence: str
-
-    def __str__(self) -> str:
-        return f"Claim '{self.statement}': {self.verdict} ({self.evidence})."
+def sentence(claim: Claim) -> str:
+    """How PACER's notes state a claim among their prose: ``Claim '<claim>': <verdict> (<ours>).`` (the form
+    ``pipeline.results.claims_of`` reads back)."""
+    return f"Claim '{claim.claim}': {claim.verdict} ({claim.ours})."
 
 
 def paired_difference(a: np.ndarray, b: np.ndarray, *keys: object) -> tuple[float, tuple[float, float]]:
@@ -177,7 +173,7 @@ def synthetic_generalises_best(unseen_low: Mapping[str, np.ndarray]) -> Claim:
     verdicts = {t.verdict for t in tests}
     verdict = "holds" if verdicts == {"holds"} else "does not hold" if "does not hold" in verdicts else "inconclusive"
     return Claim("the synthetic phase generalises best to unseen terrains", verdict,
-                 "; ".join(t.evidence for t in tests) + " (low-tier share, realistic and inverted maps together)")
+                 "; ".join(t.ours for t in tests) + " (low-tier share, realistic and inverted maps together)")
 
 
 def gap_closed(name: str, low: np.ndarray, chance_low: np.ndarray, ceiling_low: np.ndarray, *keys: object) -> Claim:

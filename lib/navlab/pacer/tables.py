@@ -12,15 +12,15 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from navlab.core.params.pacer import PacerParams
-from navlab.metrics.tables import Table
+from navlab.metrics.tables import Claim, Table
 from navlab.pacer.claims import (
     PAPER,
-    Claim,
     agreement_against_target,
     gap_closed,
     margin_ranking_claims,
     phase1_cannot_follow_inverted,
     seen_claims,
+    sentence,
     synthetic_generalises_best,
     unseen_claims,
 )
@@ -62,10 +62,10 @@ def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mappi
                        f"(epoch {classifier['best_epoch']}).")
     seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic")]
     unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic")]
-    notes1 = " ".join([setup + classifier_note + " " + _limited_oracle_note(pacer), *map(str, seen)])
+    notes1 = " ".join([setup + classifier_note + " " + _limited_oracle_note(pacer), *map(sentence, seen)])
     notes2 = " ".join([setup, ("Classifier: null, a semantic classifier knows only the seen labels, so no preference "
                                "over unseen terrain can be expressed to it (the paper omits it for the same reason)."),
-                       *map(str, unseen)])
+                       *map(sentence, unseen)])
     return [Table("table1_seen", "PACER Table I", NAVIGATION_COLUMNS, results["seen"].rows, PAPER["table1_seen"],
                   notes1, seen),
             Table("table2_unseen", "PACER Table II", NAVIGATION_COLUMNS, results["unseen"].rows,
@@ -133,11 +133,11 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
     rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
     seen, unseen = [phase1, *gaps("seen")], [synthetic, *gaps("unseen")]
     margin = margin_ranking_claims(margin_rows)
-    notes3 = f"{setup} {_limited_oracle_note(pacer)} " + " ".join(map(str, seen))
-    notes4 = f"{setup} " + " ".join(map(str, unseen))
+    notes3 = f"{setup} {_limited_oracle_note(pacer)} " + " ".join(map(sentence, seen))
+    notes4 = f"{setup} " + " ".join(map(sentence, unseen))
     notes5 = (f"{pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
               "points each (pairs of equal rank count any cost difference as error); intervals: bootstrap over items. "
-              + " ".join(map(str, margin)))
+              + " ".join(map(sentence, margin)))
     return [Table("table3_phases_seen", "PACER Table III", PHASE_COLUMNS, rows["seen"],
                   PAPER["table3_phases_seen"], notes3, seen),
             Table("table4_phases_unseen", "PACER Table IV", PHASE_COLUMNS, rows["unseen"],

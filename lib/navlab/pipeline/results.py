@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from navlab.core.io import DataError, write_text
+from navlab.metrics.tables import Claim
 from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
 
 INDEX = "README.md"
@@ -87,23 +88,14 @@ _QUOTED = re.compile(r"Claim '(?P<text>[^']+)': " + _VERDICT + r" \(", re.IGNORE
 _LISTED = re.compile(r"(?P<text>[^;|]+?): " + _VERDICT + r" \(", re.IGNORECASE)  # "Claims: a: holds (..); b: .."
 
 
-@dataclass(frozen=True)
-class Claim:
-    claim: str
-    paper: str  # the paper's number, where the claim quotes one
-    ours: str
-    verdict: str  # holds / does not hold / inconclusive
-    why: str
-
-
 def claims_of(report: dict[str, Any]) -> list[Claim]:
     """The paper's claims checked in ``report``: its typed ``claims`` list (keys claim, paper, ours, verdict,
     why) where it has one, else the claim sentences of its notes, written by the table code in one of two
     forms: ``Claims: <claim>: <verdict> (<ours>[; paper <n>][; why: <why>])``, separated by ``;`` or ``|``,
     or ``Claim '<claim>': <verdict> (<ours>).``"""
     if report.get("claims"):
-        return [Claim(c["claim"], str(c.get("paper") or ""), str(c.get("ours") or ""),
-                      VERDICTS[c["verdict"].lower()], c.get("why") or "") for c in report["claims"]]
+        return [Claim(c["claim"], VERDICTS[c["verdict"].lower()], str(c.get("ours") or ""),
+                      paper=str(c.get("paper") or ""), why=c.get("why") or "") for c in report["claims"]]
     notes = report["notes"]
     found = [_claim(m, notes) for m in _QUOTED.finditer(notes)]
     start = notes.find("Claims: ")
@@ -134,7 +126,7 @@ def _claim(m: re.Match, notes: str) -> Claim:
     parts = ours.split("; ")
     paper = [p.removeprefix("paper ") for p in parts if p.startswith("paper ")]
     ours = "; ".join(p for p in parts if not p.startswith("paper ")).removeprefix("ours: ")
-    return Claim(m["text"].strip(), "; ".join(paper), ours, VERDICTS[m["verdict"].lower()], why)
+    return Claim(m["text"].strip(), VERDICTS[m["verdict"].lower()], ours, paper="; ".join(paper), why=why)
 
 
 # ---------------------------------------------------------------------------------------------- tables
