@@ -43,6 +43,7 @@ PAPERS = {  # report folder -> the paper it reproduces, in the order the page sh
                 "Planar Robot Navigation", "https://arxiv.org/abs/2604.17679"),
     "pacer": Paper("PACER", "Preference-conditioned All-terrain Costmap Generation", "https://arxiv.org/abs/2410.23488"),
 }
+BEFORE = {"hj": ("fig2_heuristic_values", "fig3_brt_growth")}  # Sec. VI's figures come before its Table I
 OTHER = "Pipeline check"  # report folders that reproduce no paper (the quickstart)
 
 # (source under reports/, caption): the first of each track is also the front door's figure. Each source
@@ -216,8 +217,14 @@ def read_tracks(reports_dir: Path) -> dict[str, list[tuple[str, dict[str, Any]]]
     for path in sorted(reports_dir.glob("*/*.json")):
         found.setdefault(path.parent.name, []).append((path.stem, read_table(path)))
     order = [*PAPERS, *sorted(t for t in found if t not in PAPERS)]
-    return {t: sorted(found[t], key=lambda item: (list(TABLE_IDS.get(t, ())) + [item[0]]).index(item[0]))
+    return {t: sorted(found[t], key=lambda item: (_paper_order(t) + [item[0]]).index(item[0]))
             for t in order if t in found}
+
+
+def _paper_order(track: str) -> list[str]:
+    """The track's reports in its paper's order: the figures it reads before its first table (``BEFORE``),
+    then its tables (``TABLE_IDS``)."""
+    return [*BEFORE.get(track, ()), *TABLE_IDS.get(track, ())]
 
 
 def _copy_name(track: str, source: str) -> str:
