@@ -23,8 +23,8 @@ class ClosedLoopParams:
     control_hz: float = between(0.1, 1000.0)  # paper: 25 Hz
     algorithm: Literal["A*", "ANA*"]  # the paper's robot runs ANA* (Sec. VIII)
     max_expansions: int = between(1)  # per re-plan: deterministic, so a seeded run gives the same numbers
-    rest_periods: int = between(1, 1000)  # a search from rest runs on over this many periods (sim.lattice_policy)
-    reuse_plan: bool  # a re-plan out of budget keeps the car's plan when it re-checks safe (sim.lattice_policy)
+    rest_periods: int = between(1, 1000)  # a search from rest runs on over this many periods (hj.lattice_policy)
+    reuse_plan: bool  # a re-plan out of budget keeps the car's plan when it re-checks safe (hj.lattice_policy)
     plan_switch_gain_s: float = between(0.0, 60.0)  # with reuse_plan: a new plan must arrive this much sooner
     pose_allowance_sigmas: float = between(0.0, 10.0)  # static pruners' threshold raised by this x pose noise std
     heuristic: Literal["Dist", "TTR"]  # Tables VI and IX (the paper's method: TTR)
