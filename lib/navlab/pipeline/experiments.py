@@ -27,7 +27,12 @@ SWEEP_STAGE = "hj_sweep"
 
 def experiment_name(params: Params, point: Point, artifacts_dir: str | Path) -> str:
     """The queued experiment's name: the point's name and the first 8 hex digits of its input hash."""
-    return f"hj-{point.name}-{point_file(params, point, artifacts_dir).stem.split('-')[-1][:8]}"
+    return _name(point, point_file(params, point, artifacts_dir))
+
+
+def _name(point: Point, path: Path) -> str:
+    """``experiment_name`` from the point's cache file (whose name already holds the input hash)."""
+    return f"hj-{point.name}-{path.stem.split('-')[-1][:8]}"
 
 
 def queue_arguments(point: Point) -> list[str]:
@@ -55,8 +60,9 @@ def queue_sweep(params: Params, root: str | Path, artifacts_dir: str | Path) -> 
     done = experiment_refs(root)
     queued = []
     for point in sweep_points(params):
-        name = experiment_name(params, point, artifacts_dir)
-        if point_file(params, point, artifacts_dir).exists() or name in done:
+        path = point_file(params, point, artifacts_dir)  # hashes the code and the grids: once per point
+        name = _name(point, path)
+        if path.exists() or name in done:
             continue
         _dvc(root, "exp", "run", "--queue", "--name", name, *queue_arguments(point), SWEEP_STAGE)
         queued.append(name)
@@ -74,10 +80,10 @@ def collect_sweep(params: Params, root: str | Path, artifacts_dir: str | Path) -
     if not folder.is_relative_to(root):
         raise DataError(f"{folder}: the point cache must lie inside the checkout {root} to be read from experiments")
     by_name = {path.name: (path, point) for path, point in wanted.items()}
+    rel = folder.relative_to(root).as_posix()
     taken = []
     for name, sha in sorted(experiment_refs(root).items()):
         fs = DVCFileSystem(str(root), rev=sha)
-        rel = folder.relative_to(root).as_posix()
         if not fs.isdir(rel):
             continue
         for file in fs.ls(rel, detail=False):
