@@ -17,7 +17,7 @@ from navlab.hj.closed_loop import (
     summarise_runs,
     summarise_trips,
 )
-from navlab.hj.scenarios import ClosedLoop, cyclic_goals, start_state
+from navlab.hj.scenarios import ClosedLoop, cyclic_goals, run_cells, start_state
 from navlab.maps.rooms import load_room
 from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.store import save_grid
@@ -66,6 +66,21 @@ def test_closed_loop_is_deterministic_for_a_seed(loop):
     a, b, c = (loop.face_to_face("OBS", s) for s in (3, 3, 4))
     assert np.array_equal(np.array(a.trajectory), np.array(b.trajectory))
     assert not np.array_equal(np.array(a.humans), np.array(c.humans))
+
+
+def test_runs_in_worker_processes_equal_the_runs_here_in_cell_order(loop):
+    """Tables VI, VIII, IX run their cells in ``hj.workers`` processes: no run may depend on where it ran."""
+    cells = {("OBS", "F2F"): [("face_to_face", ("OBS", 3)), ("face_to_face", ("OBS", 4))],
+             ("FI-BRT", "F2F"): [("face_to_face", ("FI-BRT", 3))]}
+    here, there = run_cells(loop, cells, workers=1), run_cells(loop, cells, workers=2)
+    assert list(there) == list(cells) and [len(c) for c in there.values()] == [2, 1]
+    for key in cells:
+        for a, b in zip(here[key], there[key], strict=True):
+            assert np.array_equal(np.array(a.trajectory), np.array(b.trajectory))
+            assert [t.outcome for t in a.trips] == [t.outcome for t in b.trips] and b.cpu_s > 0
+    assert not np.array_equal(np.array(here["OBS", "F2F"][0].humans), np.array(here["OBS", "F2F"][1].humans))
+    with pytest.raises(ValueError, match="not a closed-loop run"):
+        run_cells(loop, {"x": [("policy", ())]}, workers=1)
 
 
 class _OnePlan:

@@ -93,10 +93,11 @@ def contacts_on_plan(runs: Sequence[Run]) -> int:
 
 
 def timing(runs: Sequence[Run]) -> dict:
-    """Simulated seconds, re-plans and the planner's measured wall time per re-plan over ``runs``."""
+    """Simulated seconds, re-plans, the planner's measured wall time per re-plan and the runs' CPU seconds
+    over ``runs`` (summed per run, so the same whichever process ran each)."""
     seconds = np.concatenate([np.asarray(r.plan_seconds, float) for r in runs]) if runs else np.zeros(0)
     simulated = float(sum(r.trajectory[-1][0] for r in runs if r.trajectory))
-    return {"simulated_s": simulated, "replans": int(seconds.size),
+    return {"simulated_s": simulated, "replans": int(seconds.size), "cpu_s": float(sum(r.cpu_s for r in runs)),
             "plan_median_ms": float(np.median(seconds) * 1e3) if seconds.size else None,
             "plan_p95_ms": float(np.quantile(seconds, 0.95) * 1e3) if seconds.size else None}
 

@@ -13,12 +13,17 @@ policy (``hj.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sens
   heuristic x static-pruner combinations (Dist/TTR x OBS/static BRT with its measured margin).
 - Table IX (``human_patrol``): 1 or 2 humans patrolling their points of interest under the paper's three
   rules (``sim.humans.PatrolHuman``) while the robot patrols its goals, for three patrol cycles.
+
+``run_cells`` runs many such runs in worker processes: a run is a pure function of its arguments and its
+seed (the planner's wall time is recorded, never simulated), so no result depends on how many.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Hashable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -191,3 +196,38 @@ class ClosedLoop:
                           room.obstacle_distance, start_state(t.robot_goals[0], t.robot_start_heading_deg),
                           cyclic_goals(t.robot_goals, t.cycles), humans, self.settings(t.pose_noise_m),
                           self._rng(run), keep_plans=keep_plans)
+
+
+_WORKER_LOOP: ClosedLoop | None = None  # each worker process's own ClosedLoop (value functions loaded once)
+
+
+def _start_worker(params: Params, artifacts_dir: str | Path) -> None:
+    import torch
+
+    global _WORKER_LOOP
+    torch.set_num_threads(1)  # one thread per process: two processes' thread pools would contend for the cores
+    _WORKER_LOOP = ClosedLoop(params, artifacts_dir, log=lambda *_: None)
+
+
+def _call(call: tuple[str, tuple]) -> Run:
+    name, args = call
+    return getattr(_WORKER_LOOP, name)(*args)
+
+
+def run_cells(loop: ClosedLoop, cells: Mapping[Hashable, Sequence[tuple[str, tuple]]],
+              workers: int) -> dict[Hashable, list[Run]]:
+    """Each cell's runs, a cell being a list of ``(method, args)`` calls of ``loop`` —
+    ``{"TTR + BRT": [("room_patrol", ("dense_room", "TTR", "BRT", r)) for r in range(4)]}`` — run here
+    (``workers`` <= 1) or in ``workers`` processes with a ClosedLoop of the same params each."""
+    calls = [call for cell in cells.values() for call in cell]
+    unknown = sorted({name for name, _ in calls} - {"face_to_face", "zig_zag", "room_patrol", "human_patrol"})
+    if unknown:
+        raise ValueError(f"run_cells: {unknown[0]!r} is not a closed-loop run; use face_to_face, zig_zag, "
+                         f"room_patrol or human_patrol")
+    if workers <= 1 or len(calls) <= 1:
+        runs = iter([getattr(loop, name)(*args) for name, args in calls])
+    else:
+        with ProcessPoolExecutor(min(workers, len(calls)), initializer=_start_worker,
+                                 initargs=(loop.params, loop.artifacts_dir)) as pool:
+            runs = iter(list(pool.map(_call, calls)))
+    return {key: [next(runs) for _ in cell] for key, cell in cells.items()}

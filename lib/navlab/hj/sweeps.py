@@ -144,14 +144,14 @@ def _run_and_store(args) -> dict:
 
 def run_sweep(params: Params, artifacts_dir: str | Path, progress: bool = True) -> list[dict]:
     """Every point of ``selected_points``, from the cache where its key matches, else run (in
-    ``hj.sensitivity.workers`` processes) and stored; results in point order."""
+    ``hj.workers`` processes) and stored; results in point order."""
     folder = Path(artifacts_dir) / SWEEP_SUBDIR
     folder.mkdir(parents=True, exist_ok=True)
     points = selected_points(params)
     paths = [point_file(params, p, artifacts_dir) for p in points]
     todo = [(params, p, artifacts_dir, path) for p, path in zip(points, paths, strict=True) if not path.exists()]
     bar = tqdm(total=len(todo), desc="HJ sensitivity points", disable=not progress or not todo)
-    workers = min(params.hj.sensitivity.workers, len(todo))
+    workers = min(params.hj.workers, len(todo))
     if workers > 1:
         with ProcessPoolExecutor(workers) as pool:
             for _ in pool.map(_run_and_store, todo):

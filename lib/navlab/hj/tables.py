@@ -178,7 +178,8 @@ def table8(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
     ``table6``; ``dense_plan_median_ms``: the Dense Room's median re-plan time."""
     t8, c = dynamic.table8, dynamic.closed_loop
     setup = (f"Simulated (the paper: a real QBot). Rooms and goals: navlab.maps.rooms (our layouts of Fig. 9), "
-             f"{t8.cycles} cycles; pose noise {t8.pose_noise_m} m, seed {dynamic.seed}. {c.algorithm} with "
+             f"{t8.cycles} cycles, {t8.runs} seeded run(s) per cell (seeds {dynamic.seed}+r) pooled; pose noise "
+             f"{t8.pose_noise_m} m. {c.algorithm} with "
              f"{c.max_expansions} expansions per {c.replan_hz:g} Hz re-plan (sized to the period by "
              f"benchmarks/hj_closed_loop.py). {rules} "
              f"BRT = static BRT with its measured margin. A trip "
@@ -212,8 +213,8 @@ def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
     rows = budget_rows(results)
     claims = budget_claims(rows)
     t8, c = dynamic.table8, dynamic.closed_loop
-    notes = (f"Table VIII (rooms, routes, {t8.cycles} cycles, pose noise {t8.pose_noise_m} m, seed "
-             f"{dynamic.seed}) re-run with ANA* given each budget of expansions per re-plan ({c.replan_hz:g} "
+    notes = (f"Table VIII (rooms, routes, {t8.cycles} cycles, pose noise {t8.pose_noise_m} m; one seeded run per "
+             f"point, seed {dynamic.seed}, where the table pools {t8.runs}) re-run with ANA* given each budget of expansions per re-plan ({c.replan_hz:g} "
              f"Hz; the table itself uses {c.max_expansions}); a car at rest lets its search run on for "
              f"up to {c.rest_periods} periods, so a search from rest gets up to that many budgets. "
              f"Success: trips without a wall hit, deadlock or timeout, Wilson 95% CIs. The paper states a time "

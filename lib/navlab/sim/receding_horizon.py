@@ -122,6 +122,7 @@ class Run:
     trajectory: list[np.ndarray] = field(default_factory=list)  # per tick: (t, x, y, v, θ)
     humans: list[np.ndarray] = field(default_factory=list)  # per tick: (H, 2)
     plan_seconds: list[float] = field(default_factory=list)
+    cpu_s: float = 0.0  # CPU seconds the whole run took (recorded, never simulated: the run does not depend on it)
     plans: list[tuple[float, np.ndarray]] = field(default_factory=list)  # (time, commands) when kept
 
     @property
@@ -198,7 +199,7 @@ def run_patrol(
     if float(obstacle_distance(state[0], state[1])) < settings.robot_radius:
         raise ValueError(f"start {tuple(state[:2])} is in collision with a static obstacle; choose a free start")
     tick = 1.0 / settings.control_hz
-    run, t = Run(), 0.0
+    run, t, cpu0 = Run(), 0.0, time.process_time()
     tracks = HumanTracks(settings.velocity_window_s, settings.human_speed)
     for goal in goals:
         goal = (float(goal[0]), float(goal[1]))
@@ -256,4 +257,5 @@ def run_patrol(
         trip.time_s = t - trip_start
         if trip.outcome != "success":  # external intervention: put the car down at the goal, stopped
             state = np.array([goal[0], goal[1], 0.0, state[3]])
+    run.cpu_s = time.process_time() - cpu0
     return run

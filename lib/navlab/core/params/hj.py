@@ -173,6 +173,7 @@ class PlannerParams:
 @dataclass(frozen=True)
 class HJParams:
     seed: int = between(0)
+    workers: int = between(1, 64)  # processes running closed-loop runs and sweep points (results do not depend on it)
     grids: GridsParams
     planner: PlannerParams
     dynamic: DynamicParams

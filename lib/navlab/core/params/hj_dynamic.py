@@ -73,6 +73,7 @@ class Table8Params:
     """Sec. VIII-B: static rooms, cyclic patrols, heuristic x pruner; goals are the rooms' named goals."""
 
     cycles: int = between(1, 1000)  # paper: 3 (9 trips in the Long Hallway, 6 in the Dense Room)
+    runs: int = between(1, 1000)  # seeded repetitions of the whole cell, pooled (paper: 1)
     pose_noise_m: float = between(0.0, 1.0)  # AMCL localisation on the robot
     hallway_route: tuple[str, ...]  # goal names of maps.rooms.long_hallway_room, visited cyclically
     dense_route: tuple[str, ...]
@@ -102,7 +103,6 @@ class SensitivityParams:
     replan_hz: tuple[float, ...] = between(0.1, 100.0)  # Table VI's scenarios at its own (exact) sensing
     human_noise_m: tuple[float, ...] = between(0.0, 1.0)  # Table VI's scenarios at hj.dynamic.closed_loop's rate
     human_prediction_s: tuple[float, ...] = between(0.0, 60.0)  # Table VI: FI/FS prune the humans this far ahead
-    workers: int = between(1, 64)  # processes running points (results do not depend on it)
     only: tuple[str, ...] = ()  # run just these points (Point.name); empty: all. Set by `sweep queue`, one per experiment
 
 
