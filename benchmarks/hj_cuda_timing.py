@@ -32,7 +32,7 @@ import torch
 from navlab.reach.dynamics import DubinsCar4D
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
-from navlab.reach.solver import solve
+from navlab.reach.solver import Backend, solve
 from navlab.reach.value_functions import general_ttr, static_brt
 
 CAR = DubinsCar4D(v_max=1.0, a_min=-1.0, a_max=1.0, omega_max=1.0)
@@ -89,9 +89,7 @@ def time_brt(shape, device, compile: bool, max_horizon: float):
         tolerance=0.01,
         window=0.5,
         settings=SETTINGS,
-        device=device,
-        progress=True,
-        compile=compile,
+        backend=Backend(device=device, compile=compile),
     )
     _sync(device)
     seconds = time.perf_counter() - start
@@ -115,7 +113,7 @@ def time_ttr(shape, device, compile: bool, horizon: float):
     _sync(device)
     start = time.perf_counter()
     ttr = general_ttr(
-        CAR, grid, 0.3, horizon, SETTINGS, stall_time=0.5, device=device, progress=True, compile=compile
+        CAR, grid, 0.3, horizon, SETTINGS, stall_time=0.5, backend=Backend(device=device, compile=compile)
     )
     _sync(device)
     seconds = time.perf_counter() - start
@@ -139,12 +137,11 @@ def cpu_vs_cuda(shape, horizon: float, compile: bool):
     results = {}
     for device, compiled in runs:
         # warm-up (and compilation) on a short horizon, then the timed run
-        solve(CAR, grid, failure, 0.05, SETTINGS, device=device, progress=False, compile=compiled)
+        backend = Backend(device=device, progress=False, compile=compiled)
+        solve(CAR, grid, failure, 0.05, SETTINGS, backend=backend)
         _sync(device)
         start = time.perf_counter()
-        solution = solve(
-            CAR, grid, failure, horizon, SETTINGS, device=device, progress=False, compile=compiled
-        )
+        solution = solve(CAR, grid, failure, horizon, SETTINGS, backend=backend)
         _sync(device)
         results[device, compiled] = (time.perf_counter() - start, solution.values.cpu(), solution.steps)
     cpu_s, cpu_v, steps = results["cpu", False]

@@ -79,18 +79,20 @@ def torch_worker(failure: np.ndarray, device: str, compile: bool, repeats: int) 
     from navlab.reach.dynamics import DubinsCar4D
     from navlab.reach.grid import Grid
     from navlab.reach.settings import SolverSettings
+    from navlab.reach.solver import Backend
     from navlab.reach.value_functions import avoid_tube
 
     grid = Grid(LO, HI, failure.shape, (False, False, False, True))
     car = DubinsCar4D(V_MAX, A_MIN, A_MAX, OMEGA_MAX, control_mode="max")
     settings = SolverSettings(scheme="weno5", rk_order=3, cfl=CFL, dissipation="local")  # = hj's default GLF
+    backend = Backend(device=device, progress=False, compile=compile)
     times, base = [], _peak_rss_bytes()
     for _ in range(1 + repeats):
         if device.startswith("cuda"):
             torch.cuda.synchronize()
             torch.cuda.reset_peak_memory_stats()
         start = time.perf_counter()
-        sol = avoid_tube(car, grid, failure, HORIZON, settings, device=device, progress=False, compile=compile)
+        sol = avoid_tube(car, grid, failure, HORIZON, settings, backend=backend)
         values = sol.values.cpu().numpy()
         times.append(time.perf_counter() - start)
     peak = (torch.cuda.max_memory_allocated() if device.startswith("cuda") else _peak_rss_bytes() - base)

@@ -117,17 +117,18 @@ def test_hj_degenerate_systems_and_grids_are_refused(make, message):
 
 def test_hj_solver_refuses_an_infinite_horizon_a_short_periodic_axis_and_a_negative_radius():
     from navlab.reach.settings import SolverSettings
-    from navlab.reach.solver import solve
+    from navlab.reach.solver import Backend, solve
     from navlab.reach.value_functions import disk_signed_distance
     from reach_dynamics_support import SingleIntegrator
 
     grid = Grid((-1.0, -1.0), (1.0, 1.0), (11, 11), (False, False))
     with pytest.raises(ValueError, match="horizon must be a finite number"):
-        solve(SingleIntegrator(1.0), grid, disk_signed_distance(grid, 0.5), math.inf, progress=False)
+        solve(SingleIntegrator(1.0), grid, disk_signed_distance(grid, 0.5), math.inf,
+              backend=Backend(progress=False))
     ring = Grid((-1.0, 0.0), (1.0, 1.0), (11, 2), (False, True))
     with pytest.raises(ValueError, match="periodic axis 1 has 2 nodes.*at least 3 nodes"):
         solve(SingleIntegrator(1.0), ring, disk_signed_distance(ring, 0.5), 0.1, SolverSettings(scheme="weno5"),
-              progress=False)
+              backend=Backend(progress=False))
     with pytest.raises(ValueError, match="disk radius = -0.3"):
         disk_signed_distance(grid, -0.3)
 

@@ -62,8 +62,9 @@ def test_module_set_follows_imports_including_those_inside_functions():
 
 
 def test_fingerprint_changes_with_the_source_it_runs_and_only_that(tmp_path):
-    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py", "collision_radius, device, dtype)",
-                   "2 * collision_radius, device, dtype)")
+    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py",
+                   "collision_radius, backend.device, backend.dtype)",
+                   "2 * collision_radius, backend.device, backend.dtype)")
     assert code_fingerprint("navlab.reach.precompute", lib=lib) != code_fingerprint("navlab.reach.precompute")
     assert code_fingerprint("navlab.pacer.artifacts", lib=lib) == code_fingerprint("navlab.pacer.artifacts")
     with pytest.raises(ValueError, match="no such navlab module"):
@@ -147,8 +148,9 @@ def test_edited_hj_module_rebuilds_the_grids(smoke_params, tmp_path):
 
     build_hj_grids(smoke_params, None, tmp_path / "run", progress=False, log=lambda m: None)
     old = grid_path(tmp_path / "run", "human_brt").read_bytes()
-    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py", "collision_radius, device, dtype)",
-                   "2 * collision_radius, device, dtype)")
+    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py",
+                   "collision_radius, backend.device, backend.dtype)",
+                   "2 * collision_radius, backend.device, backend.dtype)")
     run_copy(lib, """
         from navlab.core.params import load_params
         from navlab.reach.precompute import build_hj_grids

@@ -8,12 +8,14 @@ import torch
 from navlab.reach.dynamics import DubinsCar4D
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
-from navlab.reach.solver import solve
+from navlab.reach.solver import Backend, solve
 from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
 from reach_dynamics_support import DoubleIntegrator, SingleIntegrator, SingleIntegratorPursuitEvasion
 from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
+
+QUIET, QUIET64 = Backend(progress=False), Backend(dtype=torch.float64, progress=False)
 
 
 def _square(n, half_width):
@@ -28,7 +30,7 @@ def test_single_integrator_ttr_is_distance_over_speed(name, margin):
         grid = _square(n, 2.0)
         r = torch.sqrt(grid.mesh(0) ** 2 + grid.mesh(1) ** 2)
         ttr = time_to_reach(
-            SingleIntegrator(speed), grid, r - radius, 1.0, SolverSettings(scheme=name), progress=False
+            SingleIntegrator(speed), grid, r - radius, 1.0, SolverSettings(scheme=name), backend=QUIET
         )
         exact = ((r - radius) / speed).clamp(min=0)
         inside = r <= 2.0  # every state within reach of the target before the horizon
@@ -45,7 +47,7 @@ def test_pursuit_evasion_capture_radius_grows_at_the_speed_difference(name, marg
         grid = _square(n, 2.0)
         failure = disk_signed_distance(grid, radius)
         game = SingleIntegratorPursuitEvasion(evader, pursuer)
-        values = avoid_tube(game, grid, failure, tau, SolverSettings(scheme=name), progress=False).values
+        values = avoid_tube(game, grid, failure, tau, SolverSettings(scheme=name), backend=QUIET).values
         # the exact tube value: the distance shrinks at v_p − v_e until capture, so the disk's radius
         # grows by (v_p − v_e) τ
         exact = ((failure + radius) - (pursuer - evader) * tau).clamp(min=0) - radius
@@ -61,7 +63,7 @@ def test_pursuit_evasion_capture_radius_grows_at_the_speed_difference(name, marg
 def test_faster_evader_is_only_caught_inside_the_capture_set():
     grid = _square(41, 2.0)
     failure = disk_signed_distance(grid, 0.4)
-    values = avoid_tube(SingleIntegratorPursuitEvasion(1.0, 0.5), grid, failure, 1.0, progress=False).values
+    values = avoid_tube(SingleIntegratorPursuitEvasion(1.0, 0.5), grid, failure, 1.0, backend=QUIET).values
     assert torch.equal(values <= 0, failure <= 0)
     assert torch.allclose(values, failure, atol=1e-6)
 
@@ -87,8 +89,7 @@ def test_double_integrator_minimum_time_function():
             t_star - t0,
             2.0,
             SolverSettings(scheme="weno5"),
-            progress=False,
-            dtype=torch.float64,
+            backend=QUIET64,
         )
         exact = (t_star - t0).clamp(min=0)
         # states whose optimal path stays inside the grid and is reached before the horizon, away from
@@ -107,7 +108,7 @@ def test_dubins_car_ttr_on_the_heading_aligned_slice():
         (-2.4, -2.4, 0.0, -math.pi), (2.4, 2.4, 1.0, math.pi), (33, 33, 5, 16), (False, False, False, True)
     )
     radius = 0.3
-    ttr = general_ttr(car, grid, radius, 3.0, SolverSettings(scheme="eno2"), stall_time=None, progress=False)
+    ttr = general_ttr(car, grid, radius, 3.0, SolverSettings(scheme="eno2"), stall_time=None, backend=QUIET)
     xs, vs = grid.axis(0), grid.axis(2)
     centre, facing_origin = 16, 0  # y = 0 row; θ = −π points from x > 0 towards the goal
     worst = 0.0
@@ -128,16 +129,16 @@ def test_dubins_car_ttr_on_the_heading_aligned_slice():
 def test_bad_inputs_stop_with_a_message_naming_the_fix():
     grid = _square(11, 1.0)
     with pytest.raises(ValueError, match="shape"):
-        solve(SingleIntegrator(1.0), grid, torch.zeros(10, 11), 1.0, progress=False)
+        solve(SingleIntegrator(1.0), grid, torch.zeros(10, 11), 1.0, backend=QUIET)
     with pytest.raises(ValueError, match="NaN"):
-        solve(SingleIntegrator(1.0), grid, torch.full((11, 11), float("nan")), 1.0, progress=False)
+        solve(SingleIntegrator(1.0), grid, torch.full((11, 11), float("nan")), 1.0, backend=QUIET)
     with pytest.raises(ValueError, match="increasing"):
-        solve(SingleIntegrator(1.0), grid, torch.zeros(11, 11), [1.0, 0.5], progress=False)
+        solve(SingleIntegrator(1.0), grid, torch.zeros(11, 11), [1.0, 0.5], backend=QUIET)
     with pytest.raises(ValueError, match="rk_order"):
         SolverSettings(rk_order=4)
     with pytest.raises(ValueError, match="control_mode='min'"):
         time_to_reach(
-            SingleIntegrator(1.0, control_mode="max"), grid, torch.zeros(11, 11), 1.0, progress=False
+            SingleIntegrator(1.0, control_mode="max"), grid, torch.zeros(11, 11), 1.0, backend=QUIET
         )
 
 
@@ -145,7 +146,7 @@ def test_float64_and_snapshots_at_requested_times():
     grid = _square(41, 2.0)
     r = torch.sqrt(grid.mesh(0, dtype=torch.float64) ** 2 + grid.mesh(1, dtype=torch.float64) ** 2)
     solution = solve(
-        SingleIntegrator(1.0), grid, r - 0.5, [0.0, 0.25, 0.5], dtype=torch.float64, progress=False
+        SingleIntegrator(1.0), grid, r - 0.5, [0.0, 0.25, 0.5], backend=QUIET64
     )
     assert solution.snapshots.dtype == torch.float64 and solution.snapshots.shape == (3, 41, 41)
     assert solution.time == pytest.approx(0.5)
@@ -164,7 +165,7 @@ def test_global_dissipation_smears_more_than_local_but_stays_within_the_margin()
     for kind in ("local", "global"):
         settings = SolverSettings(scheme="eno2", dissipation=kind)
         ttr = time_to_reach(
-            DoubleIntegrator(1.0), grid, t_star - 1.0, 2.0, settings, progress=False, dtype=torch.float64
+            DoubleIntegrator(1.0), grid, t_star - 1.0, 2.0, settings, backend=QUIET64
         )
         mean_error[kind] = float((ttr - exact)[region].abs().mean())
     assert mean_error["local"] < mean_error["global"] < 0.05, mean_error

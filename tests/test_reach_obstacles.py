@@ -7,12 +7,14 @@ import torch
 
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
+from navlab.reach.solver import Backend
 from navlab.reach.value_functions import time_to_reach
 from reach_dynamics_support import SingleIntegrator
 from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 
+QUIET = Backend(progress=False)
 HALF, N, HORIZON = 3.0, 61, 6.0
 WALL_HALF_WIDTH, WALL_TOP = 0.15, 1.0  # the wall: |x| ≤ 0.15, y ≤ 1 (down to the grid's edge)
 GOAL, GOAL_RADIUS = (-1.5, -1.0), 0.3
@@ -35,9 +37,9 @@ def corridor():
     target = torch.sqrt((x - GOAL[0]) ** 2 + (y - GOAL[1]) ** 2) - GOAL_RADIUS
     obstacle = _wall_signed_distance(x, y)
     settings = SolverSettings(scheme="eno2", rk_order=2)
-    free = time_to_reach(SingleIntegrator(1.0), grid, target, HORIZON, settings, progress=False)
+    free = time_to_reach(SingleIntegrator(1.0), grid, target, HORIZON, settings, backend=QUIET)
     walled = time_to_reach(
-        SingleIntegrator(1.0), grid, target, HORIZON, settings, obstacle_values=obstacle, progress=False
+        SingleIntegrator(1.0), grid, target, HORIZON, settings, obstacle_values=obstacle, backend=QUIET
     )
     torch.set_num_threads(threads)
     return grid, x.expand(N, N), y.expand(N, N), obstacle, free, walled
@@ -76,4 +78,5 @@ def test_obstacle_values_must_broadcast_to_the_grid():
     grid = Grid((-1.0, -1.0), (1.0, 1.0), (11, 11), (False, False))
     target = torch.sqrt(grid.mesh(0) ** 2 + grid.mesh(1) ** 2).expand(11, 11) - 0.2
     with pytest.raises(ValueError, match="obstacle values"):
-        time_to_reach(SingleIntegrator(1.0), grid, target, 1.0, obstacle_values=torch.zeros(5, 5), progress=False)
+        time_to_reach(SingleIntegrator(1.0), grid, target, 1.0, obstacle_values=torch.zeros(5, 5),
+                      backend=QUIET)

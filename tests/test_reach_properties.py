@@ -9,11 +9,13 @@ import torch
 from navlab.reach.dynamics import DubinsCar4D, HumanRobotRelative
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
+from navlab.reach.solver import Backend
 from navlab.reach.value_functions import disk_signed_distance, general_ttr, human_brt, static_brt
 from reach_support import interpolate, single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 
+QUIET = Backend(progress=False)
 CAR = DubinsCar4D(v_max=1.0, a_min=-1.0, a_max=1.0, omega_max=1.5)
 ROOM = (4.0, 3.0)  # walls on the grid's border
 BOX = ((1.6, 1.0), (2.4, 1.9))  # one obstacle, lower and upper corners
@@ -37,7 +39,7 @@ def ttr_grid():
     grid = Grid(
         (-2.0, -2.0, 0.0, -math.pi), (2.0, 2.0, 1.0, math.pi), (25, 25, 5, 16), (False, False, False, True)
     )
-    return grid, general_ttr(CAR, grid, 0.3, 3.0, SolverSettings(scheme="eno2"), progress=False)
+    return grid, general_ttr(CAR, grid, 0.3, 3.0, SolverSettings(scheme="eno2"), backend=QUIET)
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +61,7 @@ def room_brt():
         band=0.3,
         tolerance=0.01,
         settings=SolverSettings(scheme="eno2"),
-        progress=False,
+        backend=QUIET,
     )
     return grid, sdf - ROBOT_RADIUS, solution
 
@@ -106,7 +108,7 @@ def test_avoid_tube_grows_with_the_horizon_and_contains_the_failure_set():
     from navlab.reach.solver import solve
 
     solution = solve(
-        CAR, grid, failure, [0.0, 0.5, 1.0, 2.0], SolverSettings(scheme="upwind1"), progress=False
+        CAR, grid, failure, [0.0, 0.5, 1.0, 2.0], SolverSettings(scheme="upwind1"), backend=QUIET
     )
     snapshots = solution.snapshots
     assert torch.equal(snapshots[0], failure)
@@ -183,7 +185,7 @@ def test_human_brt_for_a_stopped_robot_grows_at_the_human_speed():
         collision_radius=0.4,
         horizon=1.0,
         settings=SolverSettings(scheme="weno5"),
-        progress=False,
+        backend=QUIET,
     )
     distance = disk_signed_distance(grid, 0.0)[:, :, 0]
     exact = (distance - 0.8 * 1.0).clamp(min=0) - 0.4  # the human closes in at 0.8 m/s until contact
@@ -199,7 +201,7 @@ def test_human_brt_is_mirror_symmetric_and_contains_the_collision_set():
         collision_radius=0.4,
         horizon=1.0,
         settings=SolverSettings(scheme="eno2"),
-        progress=False,
+        backend=QUIET,
     )
     failure = disk_signed_distance(grid, 0.4)
     assert torch.all(values <= failure)

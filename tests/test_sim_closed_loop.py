@@ -20,6 +20,7 @@ from navlab.hj.closed_loop import (
 from navlab.hj.scenarios import ClosedLoop, cyclic_goals, run_cells, start_state
 from navlab.maps.rooms import load_room
 from navlab.reach.precompute import grid_path, human_brt_spec
+from navlab.reach.solver import Backend
 from navlab.reach.store import save_grid
 from navlab.search.lattice_search import NO_HUMAN
 from navlab.sim.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
@@ -40,7 +41,7 @@ def loop(tmp_path_factory, smoke_params):
     params = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=grids, dynamic=dynamic))
     out = tmp_path_factory.mktemp("closed_loop")
     spec = human_brt_spec(params)
-    values, _ = spec.solve("cpu", False, False)
+    values, _ = spec.solve(Backend(progress=False))
     save_grid(grid_path(out, "human_brt"), np.asarray(values, np.float32), spec.grid, spec.inputs)
     return ClosedLoop(params, out, log=lambda m: None)
 

@@ -7,7 +7,7 @@ among the fine grid's unsafe nodes, so the pruner drops every state the finer so
 The finer grid refines each axis by an integer factor (``refine``; (n − 1)·f + 1 nodes on bounded axes,
 n·f on the periodic heading), uses the same scheme, horizon and convergence test, and its nodes are
 compared with the stored grid's multilinear interpolant there (the value the pruner reads: the compiled
-pruner is tested equal to this numpy look-up, ``reach.pruners.static_prune_reference``). The numpy
+pruner is tested equal to this numpy look-up, ``hj.pruners.static_prune_reference``). The numpy
 look-up keeps the cached margin independent of the search code: editing the planner does not re-solve.
 
 The result is cached as JSON under ``artifacts/hj_margins`` (the ``hj_margins`` stage's output, built after
@@ -29,6 +29,7 @@ from navlab.core.params import Params
 from navlab.maps.rooms import load_room
 from navlab.reach.grid import Grid
 from navlab.reach.precompute import _car, _settings, load_static_brt, room_obstacle_distance
+from navlab.reach.solver import Backend
 
 CODE = ("navlab.reach.brt_margin",)  # and every navlab module it imports (core.fingerprint)
 MARGINS_SUBDIR = "hj_margins"
@@ -85,9 +86,10 @@ def measure_static_brt_margin(params: Params, artifacts_dir: str | Path, room_na
     fine_grid = refined_grid(lookup.grid, tuple(refine))
     room = load_room(room_name)
     b = g.static_brt
+    backend = Backend(device=device, progress=progress, compile=g.compile)
     sol = static_brt(room_obstacle_distance(room, fine_grid), _car(params), fine_grid, robot_radius=g.robot.radius_m,
                      max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
-                     settings=_settings(params), device=device, progress=progress, compile=g.compile)
+                     settings=_settings(params), backend=backend)
     fine = sol.values.detach().cpu().numpy().astype(np.float64)
     coarse = coarse_at_nodes(lookup, fine_grid)
     result = margin_from_values(coarse, fine.reshape(-1))

@@ -34,6 +34,7 @@ from navlab.core.params import Params, ParamsError
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.grid import Grid
 from navlab.reach.lookup import HumanBRTLookup, MapTTRLookup, StaticBRTLookup, TTRLookup
+from navlab.reach.solver import Backend
 from navlab.reach.store import StoredGrid, grid_to_dict, is_current, load_grid, save_grid
 
 SUBDIR = "hj"
@@ -51,7 +52,7 @@ class GridSpec:
     name: str
     grid: Grid
     inputs: dict[str, Any]
-    solve: Callable[[torch.device, bool, bool], tuple[Any, dict]]  # (device, progress, compile) -> (values, info)
+    solve: Callable[[Backend], tuple[Any, dict]]  # backend -> (values, info)
 
 
 def _asdict(section) -> dict[str, Any]:
@@ -96,11 +97,11 @@ def ttr_spec(params: Params) -> GridSpec:
     inputs = {"code": solver_code(), "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
 
-    def solve(device, progress, compile):
+    def solve(backend):
         from navlab.reach.value_functions import general_ttr
 
         values = general_ttr(_car(params), grid, g.ttr.goal_radius_m, g.ttr.horizon_s, _settings(params),
-                             stall_time=g.ttr.stall_s, device=device, progress=progress, compile=compile)
+                             stall_time=g.ttr.stall_s, backend=backend)
         return values, {"unreached_fraction": float((values >= g.ttr.horizon_s).float().mean())}
 
     return GridSpec("ttr", grid, inputs, solve)
@@ -125,13 +126,13 @@ def static_brt_spec(params: Params, room_name: str) -> GridSpec:
               "solver": _asdict(g.solver), "static_brt": _asdict(g.static_brt),
               "room": json_ready(dataclasses.asdict(room))}
 
-    def solve(device, progress, compile):
+    def solve(backend):
         from navlab.reach.value_functions import static_brt
 
         b = g.static_brt
         sol = static_brt(room_obstacle_distance(room, grid), _car(params), grid, robot_radius=g.robot.radius_m,
                          max_horizon=b.horizon_s, band=b.band_m, tolerance=b.tolerance_m, window=b.window_s,
-                         settings=_settings(params), device=device, progress=progress, compile=compile)
+                         settings=_settings(params), backend=backend)
         return sol.values, {"converged": bool(sol.converged), "time_s": float(sol.time), "steps": int(sol.steps)}
 
     return GridSpec(f"static_brt_{room_name}", grid, inputs, solve)
@@ -152,12 +153,11 @@ def human_brt_spec(params: Params) -> GridSpec:
     inputs = {"code": solver_code(), "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
 
-    def solve(device, progress, compile):
+    def solve(backend):
         from navlab.reach.value_functions import human_brt
 
         values = human_brt(_relative(params), grid, collision_radius=g.robot.radius_m + g.human.radius_m,
-                           horizon=h.horizon_s, settings=_settings(params), device=device, progress=progress,
-                           compile=compile)
+                           horizon=h.horizon_s, settings=_settings(params), backend=backend)
         return values, {}
 
     return GridSpec("human_brt", grid, inputs, solve)
@@ -177,12 +177,12 @@ def map_ttr_spec(params: Params) -> GridSpec:
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr), "map_ttr": _asdict(g.map_ttr),
               "room": json_ready(dataclasses.asdict(room))}
 
-    def solve(device, progress, compile):
+    def solve(backend):
         from navlab.reach.value_functions import map_ttr
 
         values = map_ttr(_car(params), grid, room_obstacle_distance(room, grid), g.map_ttr.goal_xy,
                          g.ttr.goal_radius_m, g.robot.radius_m, g.ttr.horizon_s, _settings(params),
-                         stall_time=g.ttr.stall_s, device=device, progress=progress, compile=compile)
+                         stall_time=g.ttr.stall_s, backend=backend)
         return values, {"unreached_fraction": float((values >= g.ttr.horizon_s).float().mean())}
 
     return GridSpec("map_ttr", grid, inputs, solve)
@@ -209,6 +209,7 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
     if device.type == "cuda" and not torch.cuda.is_available():
         raise ValueError(f"hj.grids.device = 'cuda' ({params.profile} profile) but torch sees no GPU; "
                          f"set it to cpu in params.yaml or run on a machine with one")
+    backend = Backend(device=device, progress=progress, compile=params.hj.grids.compile)
     out = []
     for spec in specs(params):
         path = grid_path(artifacts_dir, spec.name)
@@ -216,7 +217,7 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
             log(f"[hj_grids] {spec.name}: up to date ({path})")
         else:
             start = time.perf_counter()
-            values, info = spec.solve(device, progress, params.hj.grids.compile)
+            values, info = spec.solve(backend)
             values = _to_numpy(values).astype(np.float32)
             info.update(solve_seconds=round(time.perf_counter() - start, 3), device=str(device),
                         min_value=float(values.min()), max_value=float(values.max()))

@@ -1,9 +1,9 @@
 """The three value functions of HJ-search (paper Sec. VI): general TTR, static-map BRT, human-robot BRT.
 
 Pure functions of explicit arguments (dynamics, grid, geometry, settings); params.yaml is read elsewhere.
-Every function takes ``device`` (CPU default), ``dtype`` (float32 default), ``progress`` (tqdm) and
-``compile`` (torch.compile the numerical Hamiltonian; pays off on CPU and CUDA once a solve runs for more
-than the compile, ~25 s on CPU).
+Every function takes a ``backend`` (solver.Backend): ``device`` (CPU default), ``dtype`` (float32 default),
+``progress`` (tqdm) and ``compile`` (torch.compile the numerical Hamiltonian; pays off on CPU and CUDA once a
+solve runs for more than the compile, ~25 s on CPU).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import torch
 from navlab.reach.dynamics import DubinsCar4D, Dynamics, HumanRobotRelative
 from navlab.reach.grid import Grid
 from navlab.reach.settings import DEFAULT_SETTINGS, SolverSettings
-from navlab.reach.solver import obstacle_floor, solve
+from navlab.reach.solver import DEFAULT_BACKEND, Backend, obstacle_floor, solve
 
 
 def disk_signed_distance(grid: Grid, radius: float, device="cpu", dtype=torch.float32,
@@ -39,10 +39,7 @@ def time_to_reach(
     *,
     stall_time: float | None = None,
     obstacle_values=None,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ) -> torch.Tensor:
     """Minimum time to reach {l ≤ 0}, by first entry into the growing reach tube (Mitchell et al. 2005).
 
@@ -61,13 +58,14 @@ def time_to_reach(
     settings = dataclasses.replace(
         settings, value_postprocessor="backward_reachable_tube", convergence_band=None
     )
+    device, dtype = backend.device, backend.dtype
     target = torch.as_tensor(target_values, dtype=dtype).to(device)
     reached = target <= 0
     if obstacle_values is not None:  # a goal state inside an obstacle is not reached (solve raises V there)
         reached &= obstacle_floor(obstacle_values, grid, dtype, device) <= 0
     ttr = torch.where(reached, torch.zeros_like(target), torch.full_like(target, float("inf")))
     last_growth = 0.0
-    first_entry = torch.compile(_first_entry, dynamic=False) if compile else _first_entry
+    first_entry = torch.compile(_first_entry, dynamic=False) if backend.compile else _first_entry
 
     def record_first_entry(tau, dt, previous, values):
         nonlocal ttr, last_growth
@@ -83,10 +81,7 @@ def time_to_reach(
         target,
         horizon,
         settings,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
         on_step=record_first_entry,
         obstacle_values=obstacle_values,
     )
@@ -108,16 +103,13 @@ def general_ttr(
     settings: SolverSettings = DEFAULT_SETTINGS,
     *,
     stall_time: float | None = 1.0,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ) -> torch.Tensor:
     """Goal-centred TTR of the 4D car in free space (paper Sec. VI-A): goal = disk of ``goal_radius``
     at the origin of the (x, y) axes; grid axes (x, y, v, θ)."""
     _check_car_grid(grid, "general_ttr")
     reach_car = dataclasses.replace(car, control_mode="min")
-    target = disk_signed_distance(grid, goal_radius, device, dtype)
+    target = disk_signed_distance(grid, goal_radius, backend.device, backend.dtype)
     return time_to_reach(
         reach_car,
         grid,
@@ -125,10 +117,7 @@ def general_ttr(
         horizon,
         settings,
         stall_time=stall_time,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
     )
 
 
@@ -143,10 +132,7 @@ def map_ttr(
     settings: SolverSettings = DEFAULT_SETTINGS,
     *,
     stall_time: float | None = 1.0,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ) -> torch.Tensor:
     """Map-based TTR (paper Fig. 2): time to a goal disk in a room when paths may not come closer than
     ``robot_radius`` to an obstacle, a reach-avoid tube on the room's (x, y, v, θ) grid.
@@ -158,6 +144,7 @@ def map_ttr(
     """
     _check_car_grid(grid, "map_ttr")
     radius = max(goal_radius, 0.5 * math.hypot(*grid.spacing[:2]))
+    device, dtype = backend.device, backend.dtype
     target = disk_signed_distance(grid, radius, device, dtype, center=goal_xy)
     clearance = torch.as_tensor(np.asarray(obstacle_distance_xy) - robot_radius, dtype=dtype)[:, :, None, None]
     return time_to_reach(
@@ -168,10 +155,7 @@ def map_ttr(
         settings,
         stall_time=stall_time,
         obstacle_values=clearance,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
     )
 
 
@@ -182,10 +166,7 @@ def avoid_tube(
     horizon: float,
     settings: SolverSettings = DEFAULT_SETTINGS,
     *,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ):
     """Avoid BRT value V(x, horizon) for the failure set {l < 0} (control 'max'); returns the Solution."""
     if dynamics.control_mode != "max":
@@ -200,10 +181,7 @@ def avoid_tube(
         failure_values,
         horizon,
         settings,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
     )
 
 
@@ -218,10 +196,7 @@ def static_brt(
     tolerance: float,
     window: float = 0.5,
     settings: SolverSettings = DEFAULT_SETTINGS,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ):
     """Static-map avoid BRT (paper Sec. VI-B), run until the band |V| < ``band`` stops moving: by less
     than ``tolerance`` (metres of value) over ``window`` seconds of horizon.
@@ -231,7 +206,7 @@ def static_brt(
     Returns the Solution: ``.values`` the BRT value, ``.converged`` False if ``max_horizon`` came first.
     """
     _check_car_grid(grid, "static_brt")
-    sdf = torch.as_tensor(sdf_values, dtype=dtype).to(device)
+    sdf = torch.as_tensor(sdf_values, dtype=backend.dtype).to(backend.device)
     if tuple(sdf.shape) != tuple(grid.shape[:2]):
         raise ValueError(
             f"static_brt: sdf_values has shape {tuple(sdf.shape)}, the grid's (x, y) nodes "
@@ -248,10 +223,7 @@ def static_brt(
         failure,
         max_horizon,
         settings,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
     )
 
 
@@ -262,17 +234,14 @@ def human_brt(
     collision_radius: float,
     horizon: float,
     settings: SolverSettings = DEFAULT_SETTINGS,
-    device="cpu",
-    dtype=torch.float32,
-    progress: bool = True,
-    compile: bool = False,
+    backend: Backend = DEFAULT_BACKEND,
 ) -> torch.Tensor:
     """Human-robot avoid BRT over a fixed horizon (paper Sec. VI-C) on the (p_x, p_y, v) grid of
     ``HumanRobotRelative``; collision when the human is within ``collision_radius`` of the robot."""
     if grid.ndim != 3 or grid.periodic[:2] != (False, False):
         raise ValueError("human_brt: the grid must be (p_x, p_y, v) with no periodic axis")
     settings = dataclasses.replace(settings, convergence_band=None)
-    failure = disk_signed_distance(grid, collision_radius, device, dtype)
+    failure = disk_signed_distance(grid, collision_radius, backend.device, backend.dtype)
     avoid = dataclasses.replace(relative, control_mode="max")
     return avoid_tube(
         avoid,
@@ -280,10 +249,7 @@ def human_brt(
         failure,
         horizon,
         settings,
-        device=device,
-        dtype=dtype,
-        progress=progress,
-        compile=compile,
+        backend=backend,
     ).values
 
 
