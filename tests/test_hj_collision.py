@@ -12,6 +12,7 @@ from navlab.hj.planning import plan_clearance
 from navlab.hj.pruners import field_error, obs_pruner
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primitive_table
+from navlab.search.lattice_fields import chord_clearance
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
 SPEC = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 9, 4, 0.2, 24)
@@ -58,15 +59,36 @@ def drive(parent: np.ndarray, controls: np.ndarray, n: int) -> np.ndarray:
     return np.stack(out, axis=1)
 
 
+def test_chord_clearance_is_the_chords_distance_to_outside_both_discs():
+    """Against brute force: the least distance from the segment a -> b to a point outside both B(a, da) and
+    B(b, db) (where an obstacle may be), over random discs: never above it (conservative), and within 1 mm
+    of it (tight); 0 where the discs leave a gap on the segment."""
+    rng = np.random.default_rng(3)
+    angles = np.linspace(0.0, 2.0 * math.pi, 4000, endpoint=False)
+    ring = np.column_stack([np.cos(angles), np.sin(angles)])
+    for _ in range(300):
+        da, db, c = rng.uniform(0.01, 0.5), rng.uniform(0.01, 0.5), rng.uniform(0.0, 0.6)
+        a, b = np.zeros(2), np.array([c, 0.0])
+        rim = np.vstack([da * ring, b + db * ring])  # each circle's points outside the other disc
+        rim = rim[(np.linalg.norm(rim - a, axis=1) >= da - 1e-12) & (np.linalg.norm(rim - b, axis=1) >= db - 1e-12)]
+        chord = np.column_stack([np.linspace(0.0, c, 400), np.zeros(400)])
+        exact = 0.0 if c >= da + db else np.linalg.norm(chord[:, None] - rim[None], axis=2).min()
+        bound = chord_clearance(da, db, c)
+        assert bound <= exact + 1e-9, (da, db, c, bound, exact)
+        assert bound >= exact - 1e-3, (da, db, c, bound, exact)
+        assert bound >= (da + db - c) / 2 - 1e-12  # never below the 1-Lipschitz bound
+
+
 def test_no_accepted_primitive_touches_an_obstacle():
     """1,000 random rooms, the 25 primitives from 2 parents just clear of the obstacles in each (at a
     lattice speed, or an off-level one with ``first_step``'s primitives): every segment the swept check
     accepts keeps the radius on its dense replay (the sub-steps the table is integrated on) and on a 4
-    times finer one; and the check is not useless: it accepts most segments that are 5 cm clear."""
+    times finer one; and the check is tight: it accepts 99% of the segments whose replay is 2 cm clear (the
+    1-Lipschitz bound alone accepted 95%: it asks the samples for up to half the step's length of clearance)."""
     rng = np.random.default_rng(26)
     table = primitive_table(SPEC)
     n = SPEC.samples_per_step * SPEC.micro_steps
-    accepted = clear = 0
+    accepted = clear = 0  # of the segments whose finer replay is 2 cm clear
     worst = math.inf
     for _ in range(1000):
         room = random_room(rng)
@@ -85,10 +107,10 @@ def test_no_accepted_primitive_touches_an_obstacle():
             for points, ok in ((drive(parent, controls, n), keep), (drive(parent, controls, 4 * n), keep)):
                 gap = room.signed_distance(points[..., 0], points[..., 1], RADIUS).min(axis=1)
                 worst = min(worst, gap[ok].min(initial=math.inf))
-            accepted += keep.sum()
-            clear += (gap > 0.05).sum()
+            accepted += (keep & (gap > 0.02)).sum()
+            clear += (gap > 0.02).sum()
     assert worst > 0.0, worst
-    assert accepted > 0.9 * clear > 10000, (accepted, clear)
+    assert accepted > 0.99 * clear > 10000, (accepted, clear)
 
 
 @pytest.mark.parametrize("seed", range(3))

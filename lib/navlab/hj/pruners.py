@@ -7,7 +7,8 @@ expansion (the paper's Table VII: 140 states per call) and drops a successor whe
 - ``obs_pruner``: the collision check: clearance (exact signed distance to the room's walls and
   obstacles, sampled on a fine raster) minus the robot radius and the raster's error bound
   (``field_error``) must be > 0 at a state, and along a segment the swept check of
-  ``lattice_fields.swept_unsafe`` (the search's, and the simulator's re-check) bounds it between samples;
+  ``lattice_fields.swept_unsafe`` (the search's, and the simulator's re-check) bounds it between samples
+  (by the two-disc chord bound ``chord_clearance``, else the 1-Lipschitz one);
 - ``static_brt_pruner``: the static-map BRT value must be > ``margin``, a margin measured against a finer
   solve (``reach.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
 - ``human_pruner``: the human-robot BRT with the humans fixed at their observed positions (prediction
@@ -79,7 +80,8 @@ def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> Sta
     if not (math.isfinite(robot_radius) and robot_radius >= 0):  # NaN: clearance - NaN <= 0 is never true
         raise ValueError(f"OBS robot_radius {robot_radius}: must be a finite number >= 0 (metres)")
     field = clearance_field(room, resolution)
-    return StaticPruner(S_OBS, field, np.array([robot_radius + field_error(field), -1.0]), "OBS")
+    error = field_error(field)
+    return StaticPruner(S_OBS, field, np.array([robot_radius + error, -1.0, error]), "OBS")
 
 
 def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:

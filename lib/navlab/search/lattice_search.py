@@ -75,12 +75,15 @@ class Heuristic:
 class StaticPruner:
     kind: int
     field: GridField
-    par: np.ndarray  # [radius or margin, value off the grid]
+    par: np.ndarray  # [radius or margin, value off the grid], and for S_OBS the field's error bound
     name: str = ""
     # the corner minimum of every cell of ``field`` (lattice_fields.cell_min), derived here
     lower: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
+        if self.kind == S_OBS and len(self.par) != 3:  # the compiled swept check reads par[2]
+            raise ValueError(f"OBS pruner par {list(self.par)}: give [radius + field error, value off the grid, "
+                             f"field error] (hj.pruners.obs_pruner builds it)")
         object.__setattr__(self, "lower", cell_min(self.field))
 
     def __call__(self, samples: np.ndarray) -> np.ndarray:
@@ -128,7 +131,7 @@ class StaticPruner:
         if not math.isfinite(threshold):
             raise ValueError(f"pruner threshold {threshold}: must be a finite number (a NaN prunes nothing)")
         twin = copy.copy(self)
-        object.__setattr__(twin, "par", np.array([threshold, self.par[1]]))
+        object.__setattr__(twin, "par", np.array([threshold, *self.par[1:]]))
         return twin
 
 
@@ -460,6 +463,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
         rows = root if cur == 0 else table[round(sv_ / v_top * (nlev - 1))]
         cth, sth_ = math.cos(sth), math.sin(sth)
         # the parent's clearance lower bounds, where an OBS check sweeps the path from it
+        here = st[cur]  # the parent's state, from which the swept checks start
         sq0 = obs_clearance(sv, sm, sp, sx, sy) if sk == S_OBS else 0.0
         cq0 = obs_clearance(cv_, cm_, cp, sx, sy) if ck == S_OBS else 0.0
         for p in range(n_prim):
@@ -493,14 +497,14 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
             samples[last, 0], samples[last, 1], samples[last, 2], samples[last, 3] = ex, ey, ev, eth
             if sk != S_NONE:
                 if sk == S_OBS:
-                    bad = swept_unsafe(sv, sb, sm, sp, sq0, sv_, step_t, segment, 0, n_samp)
+                    bad = swept_unsafe(sv, sb, sm, sp, sq0, here, step_t, segment, 0, n_samp)
                 else:
                     bad = first_unsafe(sk, sv, sb, sm, sp, segment, 0, n_samp)
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
             if ck != S_NONE:
-                bad = swept_unsafe(cv_, cb, cm_, cp, cq0, sv_, step_t, segment, 0, n_samp)
+                bad = swept_unsafe(cv_, cb, cm_, cp, cq0, here, step_t, segment, 0, n_samp)
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
