@@ -12,7 +12,7 @@ from navlab.hj.planning import plan_clearance
 from navlab.hj.pruners import field_error, obs_pruner
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primitive_table
-from navlab.search.lattice_fields import chord_clearance, field_meta, obs_clearance
+from navlab.search.lattice_fields import chord_clearance
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
 SPEC = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 9, 4, 0.2, 24)
@@ -42,22 +42,6 @@ def test_field_error_bounds_the_interpolated_distance():
         states = np.column_stack([xy, np.zeros((4000, 2))])
         interpolated = obs.values(states) + obs.par[0]  # values() takes the threshold off
         assert (interpolated - room.obstacle_distance(xy[:, 0], xy[:, 1]) <= field_error(obs.field)).all()
-
-
-def test_obs_clearance_is_a_lower_bound_on_the_clearance_tighter_than_the_worst_case():
-    """``obs_clearance`` narrows the raster's worst-case error to the interpolant's bound at the point: still
-    never above the true clearance minus the radius, and above the worst-case reading almost everywhere."""
-    rng = np.random.default_rng(1)
-    for _ in range(20):
-        room = random_room(rng)
-        obs = obs_pruner(room, RADIUS, resolution=rng.choice([0.02, 0.05]))
-        fv, m = field_meta(obs.field)
-        xy = rng.uniform((0.0, 0.0), (3.0, 2.0), size=(2000, 2))
-        q = np.array([obs_clearance(fv, m, obs.par, x, y) for x, y in xy])
-        true = room.obstacle_distance(xy[:, 0], xy[:, 1]) - RADIUS
-        assert (q <= true).all()
-        worst_case = obs.values(np.column_stack([xy, np.zeros((2000, 2))]))
-        assert (q >= worst_case).all() and (q > worst_case + 1e-4).mean() > 0.95
 
 
 def drive(parent: np.ndarray, controls: np.ndarray, n: int) -> np.ndarray:
@@ -99,13 +83,12 @@ def test_no_accepted_primitive_touches_an_obstacle():
     """1,000 random rooms, the 25 primitives from 2 parents just clear of the obstacles in each (at a
     lattice speed, or an off-level one with ``first_step``'s primitives): every segment the swept check
     accepts keeps the radius on its dense replay (the sub-steps the table is integrated on) and on a 4
-    times finer one; and the check is tight: it accepts 99% of the segments whose replay is 1 cm clear (the
-    1-Lipschitz bound with the raster's worst-case error accepted 91%, 95% at 2 cm: it asked the samples for
-    up to half the step's length of clearance beyond 1.4 cm)."""
+    times finer one; and the check is tight: it accepts 99% of the segments whose replay is 2 cm clear (the
+    1-Lipschitz bound alone accepted 95%: it asks the samples for up to half the step's length of clearance)."""
     rng = np.random.default_rng(26)
     table = primitive_table(SPEC)
     n = SPEC.samples_per_step * SPEC.micro_steps
-    accepted = clear = 0  # of the segments whose finer replay is 1 cm clear
+    accepted = clear = 0  # of the segments whose finer replay is 2 cm clear
     worst = math.inf
     for _ in range(1000):
         room = random_room(rng)
@@ -124,8 +107,8 @@ def test_no_accepted_primitive_touches_an_obstacle():
             for points, ok in ((drive(parent, controls, n), keep), (drive(parent, controls, 4 * n), keep)):
                 gap = room.signed_distance(points[..., 0], points[..., 1], RADIUS).min(axis=1)
                 worst = min(worst, gap[ok].min(initial=math.inf))
-            accepted += (keep & (gap > 0.01)).sum()
-            clear += (gap > 0.01).sum()
+            accepted += (keep & (gap > 0.02)).sum()
+            clear += (gap > 0.02).sum()
     assert worst > 0.0, worst
     assert accepted > 0.99 * clear > 10000, (accepted, clear)
 

@@ -264,19 +264,8 @@ def first_unsafe(kind, fv, fmin, m, par, samples, i, n):
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
 def obs_clearance(fv, m, par, x, y):
-    """The OBS field's value at (x, y) minus its threshold (off the grid: ``par[1]`` minus it), a lower
-    bound on the true clearance minus the required one. The threshold allows for the raster's worst-case
-    error (half the cell diagonal, at a cell's centre); at (x, y) the interpolant errs by at most
-    sqrt(hx² tx(1 − tx) + hy² ty(1 − ty)) (``hj.pruners.field_error``), zero on the raster's nodes, so
-    the rest of that allowance is given back here."""
-    if _outside_xy(m, x, y):
-        return par[1] - par[0]
-    _, lo, inv, n, per, st, _ = m
-    _, _, tx = _axis(lo[0], inv[0], n[0], per[0], st[0], x)
-    _, _, ty = _axis(lo[1], inv[1], n[1], per[1], st[1], y)
-    hx, hy = 1.0 / inv[0], 1.0 / inv[1]
-    local = math.sqrt(hx * hx * tx * (1.0 - tx) + hy * hy * ty * (1.0 - ty))
-    return interp2(fv, m, x, y) - par[0] + (0.5 * math.hypot(hx, hy) - local)
+    """The OBS field's value at (x, y) minus its threshold (off the grid: ``par[1]`` minus it)."""
+    return par[1] - par[0] if _outside_xy(m, x, y) else interp2(fv, m, x, y) - par[0]
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -324,8 +313,7 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
     ``q0``: the parent's clearance lower bound (``obs_clearance``); ``parent``: its state (x, y, v, θ);
     ``step``: the time between samples. Why it is conservative: the field's threshold ``par[0]`` is the
     required clearance ρ (robot radius, plus any pose allowance) plus ``par[2]``, a bound on the field's
-    interpolation error (``hj.pruners.obs_pruner``), so q = value − threshold (``obs_clearance``, which
-    narrows that allowance to the interpolant's error bound at the point) is a lower bound on the true
+    interpolation error (``hj.pruners.obs_pruner``), so q = value − threshold is a lower bound on the true
     distance minus ρ at each sample. Between two samples the path is kept clear when either (a) q_a + q_b
     > L, L ≤ step · max(v_a, v_b) its arc length (the speed is monotone over a primitive): the true
     distance d is 1-Lipschitz, so d(p) ≥ (d(a) + d(b) − L) / 2 on any path; or (b) the straight chord is
@@ -350,7 +338,7 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
             if q > 0.5 * step * max(v_prev, v, v_next):
                 exact = False  # clears both its intervals: a lower bound is enough
             else:
-                q = obs_clearance(fv, m, par, x, y)
+                q = interp2(fv, m, x, y) - par[0]
         if not _interval_clear(q_prev, q, length, rho, chord, turn):
             if not exact_prev:  # the bound was not enough after all: the interpolant decides
                 q_prev = obs_clearance(fv, m, par, px, py)
