@@ -72,6 +72,8 @@ HEADLINE: dict[str, tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]] = 
               ("table5_margin_ranking", ("D_synthetic",), ("test_synthetic",))),
 }
 
+OUT_OF = ("trips", "tasks", "runs")  # what a headline success count is out of, where the row says
+
 # Columns shown where the paper prints no table to take them from (or, for Fig. 4, a scatter's axes).
 SHOWN = {
     "surenav/fig4_safety_efficiency": ("sr", "spl", "total_risk"),
@@ -307,8 +309,13 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
             mine = next(r for r in report["rows"] if tuple(r.get(k) for k in keys) == key)
             theirs = next((r for r in report["paper"] if tuple(r.get(k) for k in keys) == key), {})
             for c in cols:
+                ours, printed = _cell(mine, c), _num(theirs[c]) if theirs.get(c) is not None else ""
+                out_of = next((k for k in OUT_OF if c == "success" and k in mine), None)
+                if out_of:  # a count pooled over more trials than the paper's: "24/24" beside "6/6"
+                    ours = f"{ours}/{_num(mine[out_of])}"
+                    printed = f"{printed}/{_num(theirs[out_of])}" if printed and theirs.get(out_of) else printed
                 parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
-                             f"{_cell(mine, c)} | {_num(theirs[c]) if theirs.get(c) is not None else ''} |")
+                             f"{ours} | {printed} |")
         verdicts = [c.verdict for report in reports.values() for c in claims_of(report)]
         counts = ", ".join(f"{verdicts.count(v)} {plural}" for v, plural in
                            (("holds", "hold"), ("does not hold", "do not hold"), ("inconclusive", "inconclusive")))
