@@ -312,7 +312,7 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
                 ours, printed = _cell(mine, c), _num(theirs[c]) if theirs.get(c) is not None else ""
                 out_of = next((k for k in OUT_OF if c == "success" and k in mine), None)
                 if out_of:  # a count pooled over more trials than the paper's: "24/24" beside "6/6"
-                    ours = f"{ours}/{_num(mine[out_of])}"
+                    ours = f"{_num(mine[c])}/{_num(mine[out_of])}" + ours[len(_num(mine[c])):]
                     printed = f"{printed}/{_num(theirs[out_of])}" if printed and theirs.get(out_of) else printed
                 parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
                              f"{ours} | {printed} |")
