@@ -147,9 +147,13 @@ def _num(v: Any) -> str:
 
 def _cell(row: dict[str, Any], col: str) -> str:
     """Our value with its 95% interval inline where the report has one (``<col>_ci``)."""
+    return _num(row.get(col)) + _interval(row, col)
+
+
+def _interval(row: dict[str, Any], col: str) -> str:
+    """`` [lo, hi]`` from the report's ``<col>_ci``, or "" where it has none."""
     ci = row.get(f"{col}_ci")
-    interval = f" [{_num(ci[0])}, {_num(ci[1])}]" if isinstance(ci, list) and len(ci) == 2 and row.get(col) is not None else ""
-    return _num(row.get(col)) + interval
+    return f" [{_num(ci[0])}, {_num(ci[1])}]" if isinstance(ci, list) and len(ci) == 2 and row.get(col) is not None else ""
 
 
 def shown_columns(report: dict[str, Any], track: str) -> list[str]:
@@ -312,7 +316,7 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
                 ours, printed = _cell(mine, c), _num(theirs[c]) if theirs.get(c) is not None else ""
                 out_of = next((k for k in OUT_OF if c == "success" and k in mine), None)
                 if out_of:  # a count pooled over more trials than the paper's: "24/24" beside "6/6"
-                    ours = f"{_num(mine[c])}/{_num(mine[out_of])}" + ours[len(_num(mine[c])):]
+                    ours = f"{_num(mine[c])}/{_num(mine[out_of])}{_interval(mine, c)}"
                     printed = f"{printed}/{_num(theirs[out_of])}" if printed and theirs.get(out_of) else printed
                 parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
                              f"{ours} | {printed} |")
