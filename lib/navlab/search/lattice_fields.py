@@ -279,8 +279,8 @@ def chord_clearance(da, db, c):
     point obstacle at the crossing, so no bound from da, db and c alone is larger; the 1-Lipschitz bound
     (da + db − c) / 2 is smaller by up to half the chord (6 cm of a 12.5 cm step at 1 m/s).
     """
-    if da <= 0.0 or db <= 0.0 or c >= da + db:
-        return 0.0
+    if da <= 0.0 or db <= 0.0 or c >= da + db:  # the discs leave the chord open: the 1-Lipschitz bound,
+        return 0.5 * (da + db - c)  # which stays a lower bound on a signed distance (0 would not be one)
     if c <= 1e-12:
         return min(da, db)
     t = (da * da - db * db + c * c) / (2.0 * c)
