@@ -62,7 +62,7 @@ def drive(parent: np.ndarray, controls: np.ndarray, n: int) -> np.ndarray:
 def test_chord_clearance_is_the_chords_distance_to_outside_both_discs():
     """Against brute force: the least distance from the segment a -> b to a point outside both B(a, da) and
     B(b, db) (where an obstacle may be), over random discs: never above it (conservative), and within 1 mm
-    of it (tight); 0 where the discs leave a gap on the segment."""
+    of it (tight); the 1-Lipschitz bound (<= 0) where the discs leave a gap on the segment."""
     rng = np.random.default_rng(3)
     angles = np.linspace(0.0, 2.0 * math.pi, 4000, endpoint=False)
     ring = np.column_stack([np.cos(angles), np.sin(angles)])
@@ -72,11 +72,25 @@ def test_chord_clearance_is_the_chords_distance_to_outside_both_discs():
         rim = np.vstack([da * ring, b + db * ring])  # each circle's points outside the other disc
         rim = rim[(np.linalg.norm(rim - a, axis=1) >= da - 1e-12) & (np.linalg.norm(rim - b, axis=1) >= db - 1e-12)]
         chord = np.column_stack([np.linspace(0.0, c, 400), np.zeros(400)])
-        exact = 0.0 if c >= da + db else np.linalg.norm(chord[:, None] - rim[None], axis=2).min()
         bound = chord_clearance(da, db, c)
+        if c >= da + db:  # the discs leave the chord open: an obstacle may touch it, the Lipschitz bound is <= 0
+            assert bound == pytest.approx((da + db - c) / 2) and bound <= 0.0
+            continue
+        exact = np.linalg.norm(chord[:, None] - rim[None], axis=2).min()
         assert bound <= exact + 1e-9, (da, db, c, bound, exact)
         assert bound >= exact - 1e-3, (da, db, c, bound, exact)
         assert bound >= (da + db - c) / 2 - 1e-12  # never below the 1-Lipschitz bound
+    # where the discs leave the chord open the bound is the Lipschitz one, negative when it may cross an obstacle
+    assert chord_clearance(-0.1, -0.1, 1.4) == pytest.approx(-0.8)
+
+
+def test_an_obs_threshold_below_the_field_error_is_refused():
+    """A threshold below the raster's error bound is a negative radius: the swept check would keep a segment
+    straight through a disc (found in review: 1.4 m through a 0.3 m disc, kept at threshold 0)."""
+    obs = obs_pruner(Room("disc", 2.0, 2.0, (Disc(1.0, 1.0, 0.3),)), RADIUS)
+    with pytest.raises(ValueError, match="below the field's error bound"):
+        obs.with_threshold(0.0)
+    assert obs.with_threshold(field_error(obs.field)).par[0] == field_error(obs.field)
 
 
 def test_no_accepted_primitive_touches_an_obstacle():

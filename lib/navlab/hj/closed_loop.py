@@ -94,7 +94,7 @@ def contacts_on_plan(runs: Sequence[Run]) -> int:
 
 def timing(runs: Sequence[Run]) -> dict:
     """Simulated seconds, re-plans, the planner's measured wall time per re-plan and the runs' CPU seconds
-    over ``runs`` (summed per run, so the same whichever process ran each)."""
+    over ``runs`` (summed per run; each process's first run also carries its one-time warm-up, ~0.3 s)."""
     seconds = np.concatenate([np.asarray(r.plan_seconds, float) for r in runs]) if runs else np.zeros(0)
     simulated = float(sum(r.trajectory[-1][0] for r in runs if r.trajectory))
     return {"simulated_s": simulated, "replans": int(seconds.size), "cpu_s": float(sum(r.cpu_s for r in runs)),

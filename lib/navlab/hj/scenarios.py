@@ -225,9 +225,10 @@ def run_cells(loop: ClosedLoop, cells: Mapping[Hashable, Sequence[tuple[str, tup
         raise ValueError(f"run_cells: {unknown[0]!r} is not a closed-loop run; use face_to_face, zig_zag, "
                          f"room_patrol or human_patrol")
     if workers <= 1 or len(calls) <= 1:
-        runs = iter([getattr(loop, name)(*args) for name, args in calls])
+        runs = [getattr(loop, name)(*args) for name, args in calls]
     else:
         with ProcessPoolExecutor(min(workers, len(calls)), initializer=_start_worker,
                                  initargs=(loop.params, loop.artifacts_dir)) as pool:
-            runs = iter(list(pool.map(_call, calls)))
-    return {key: [next(runs) for _ in cell] for key, cell in cells.items()}
+            runs = list(pool.map(_call, calls))
+    done = iter(runs)
+    return {key: [next(done) for _ in cell] for key, cell in cells.items()}

@@ -214,7 +214,8 @@ def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
     claims = budget_claims(rows)
     t8, c = dynamic.table8, dynamic.closed_loop
     notes = (f"Table VIII (rooms, routes, {t8.cycles} cycles, pose noise {t8.pose_noise_m} m; one seeded run per "
-             f"point, seed {dynamic.seed}, where the table pools {t8.runs}) re-run with ANA* given each budget of expansions per re-plan ({c.replan_hz:g} "
+             f"point, seed {dynamic.seed}, where the table pools {t8.runs}) re-run with ANA* given each budget "
+             f"of expansions per re-plan ({c.replan_hz:g} "
              f"Hz; the table itself uses {c.max_expansions}); a car at rest lets its search run on for "
              f"up to {c.rest_periods} periods, so a search from rest gets up to that many budgets. "
              f"Success: trips without a wall hit, deadlock or timeout, Wilson 95% CIs. The paper states a time "

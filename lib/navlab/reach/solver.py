@@ -31,7 +31,8 @@ StepHook = Callable[[float, float, torch.Tensor, torch.Tensor], bool]
 
 
 class Backend(NamedTuple):
-    """Where and how a solve runs (device, dtype, tqdm, torch.compile): never what it computes."""
+    """Where and how a solve runs (device, float precision, tqdm, torch.compile), bundled because every value
+    function only forwards them to ``solve``."""
 
     device: str | torch.device = "cpu"
     dtype: torch.dtype = torch.float32

@@ -279,8 +279,8 @@ def chord_clearance(da, db, c):
     point obstacle at the crossing, so no bound from da, db and c alone is larger; the 1-Lipschitz bound
     (da + db − c) / 2 is smaller by up to half the chord (6 cm of a 12.5 cm step at 1 m/s).
     """
-    if da <= 0.0 or db <= 0.0 or c >= da + db:
-        return 0.0
+    if da <= 0.0 or db <= 0.0 or c >= da + db:  # the discs leave the chord open: the 1-Lipschitz bound,
+        return 0.5 * (da + db - c)  # which stays a lower bound on a signed distance (0 would not be one)
     if c <= 1e-12:
         return min(da, db)
     t = (da * da - db * db + c * c) / (2.0 * c)
@@ -292,16 +292,19 @@ def chord_clearance(da, db, c):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _interval_clear(q_prev, q, length, rho, c, turn):
-    """One interval between two samples, given the clearance lower bounds ``q`` (minus the threshold) at its
-    ends: clear by the 1-Lipschitz bound over any path of ``length``, or by ``chord_clearance`` less the
-    path's offset from its chord. Within a primitive the turn rate is constant, so the path between two
-    samples is convex with total turning ``turn``: it lies in the triangle of the chord and the end
-    tangents, at most (c / 2) tan(turn / 2) from the chord (taken only for turns < 1 rad)."""
+def _interval_clear(q_prev, q, length, rho, a, b):
+    """One interval between two samples ``a`` and ``b`` (x, y, θ), given the clearance lower bounds ``q``
+    (minus the threshold) at its ends: clear by the 1-Lipschitz bound over any path of ``length``, or by
+    ``chord_clearance`` less the path's offset from its chord. Within a primitive the turn rate is
+    constant, so the path between two samples is convex with total turning ``turn``: it lies in the
+    triangle of the chord and the end tangents, at most (c / 2) tan(turn / 2) from the chord (taken only
+    for turns < 1 rad). The chord and the turn are computed only where the Lipschitz bound does not decide."""
     if q_prev + q > length:
         return True
+    turn = abs((b[2] - a[2] + math.pi) % (2.0 * math.pi) - math.pi)
     if turn >= 1.0:
         return False
+    c = math.hypot(b[0] - a[0], b[1] - a[1])
     return chord_clearance(q_prev + rho, q + rho, c) - 0.5 * c * math.tan(0.5 * turn) > rho
 
 
@@ -328,8 +331,6 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
         x, y, v, th = samples[i, j, 0], samples[i, j, 1], samples[i, j, 2], samples[i, j, 3]
         v_next = samples[i, j + 1, 2] if j + 1 < n else v
         length = step * max(v_prev, v)
-        chord = math.hypot(x - px, y - py)
-        turn = abs((th - pth + math.pi) % (2.0 * math.pi) - math.pi)
         exact = True
         if _outside_xy(m, x, y):
             q = par[1] - par[0]
@@ -339,12 +340,12 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
                 exact = False  # clears both its intervals: a lower bound is enough
             else:
                 q = interp2(fv, m, x, y) - par[0]
-        if not _interval_clear(q_prev, q, length, rho, chord, turn):
+        if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th)):
             if not exact_prev:  # the bound was not enough after all: the interpolant decides
                 q_prev = obs_clearance(fv, m, par, px, py)
             if not exact:
                 q, exact = obs_clearance(fv, m, par, x, y), True
-            if not _interval_clear(q_prev, q, length, rho, chord, turn):
+            if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th)):
                 return j
         q_prev, v_prev, exact_prev, px, py, pth = q, v, exact, x, y, th
     return -1

@@ -81,9 +81,9 @@ class StaticPruner:
     lower: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        if self.kind == S_OBS and len(self.par) != 3:  # the compiled swept check reads par[2]
+        if self.kind == S_OBS and (len(self.par) != 3 or self.par[0] < self.par[2]):  # the swept check reads
             raise ValueError(f"OBS pruner par {list(self.par)}: give [radius + field error, value off the grid, "
-                             f"field error] (hj.pruners.obs_pruner builds it)")
+                             f"field error] with a radius >= 0 (hj.pruners.obs_pruner builds it)")
         object.__setattr__(self, "lower", cell_min(self.field))
 
     def __call__(self, samples: np.ndarray) -> np.ndarray:
@@ -130,6 +130,9 @@ class StaticPruner:
         not depend on the threshold, and re-deriving them costs a pass over the whole grid per call)."""
         if not math.isfinite(threshold):
             raise ValueError(f"pruner threshold {threshold}: must be a finite number (a NaN prunes nothing)")
+        if self.kind == S_OBS and threshold < self.par[2]:  # below the raster's error: a negative radius
+            raise ValueError(f"OBS threshold {threshold}: below the field's error bound {self.par[2]:.4f} m, it "
+                             f"would let paths through obstacles; use >= that (a robot radius >= 0)")
         twin = copy.copy(self)
         object.__setattr__(twin, "par", np.array([threshold, *self.par[1:]]))
         return twin
