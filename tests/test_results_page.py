@@ -49,14 +49,19 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
 def test_claims_are_read_from_each_notes_form_and_from_typed_data():
     hj = ("Set-up. Claims: TTR cuts A* expansions (on tasks): holds (10 vs 20); BRT raises success: DOES NOT HOLD "
           "(4/4 vs 4/4; paper 4/4 vs 2/4; why: OBS already solves all (see Fig. 7)). Failures: none.")
-    surenav = "x. Claims: a: b first: undecided (SuReNav not run) | c: does not hold (ours: 0.1; why: personas)"
+    surenav = ("x. Claims: a: b first: inconclusive (SuReNav not run) | c: does not hold (0.1 vs 0.2: x0.50; "
+               "paper 0.416 vs 0.271; why: personas (see d))")
     pacer = "y. Claim 'PACER beats STERLING (2a)': inconclusive (+0.1, 95% CI [-0.0, 0.2]). Claim 'z': holds (1)."
     got = [claims_of({"notes": n}) for n in (hj, surenav, pacer)]
     assert [(c.claim, c.verdict, c.paper, c.ours, c.why) for c in got[0]] == [
         ("TTR cuts A* expansions (on tasks)", "holds", "", "10 vs 20", ""),
         ("BRT raises success", "does not hold", "4/4 vs 2/4", "4/4 vs 4/4", "OBS already solves all (see Fig. 7)")]
-    assert [(c.claim, c.verdict, c.ours, c.why) for c in got[1]] == [
-        ("a: b first", "inconclusive", "SuReNav not run", ""), ("c", "does not hold", "0.1", "personas")]
+    assert [(c.claim, c.verdict, c.ours, c.paper, c.why) for c in got[1]] == [
+        ("a: b first", "inconclusive", "SuReNav not run", "", ""),
+        ("c", "does not hold", "0.1 vs 0.2: x0.50", "0.416 vs 0.271", "personas (see d)")]
+    older = "x. Claims: a: undecided (SuReNav not run) | c: does not hold (ours: 0.1; why: personas)"  # before issue 27
+    assert [(c.claim, c.verdict, c.ours, c.why) for c in claims_of({"notes": older})] == [
+        ("a", "inconclusive", "SuReNav not run", ""), ("c", "does not hold", "0.1", "personas")]
     assert [(c.claim, c.verdict) for c in got[2]] == [("PACER beats STERLING (2a)", "inconclusive"), ("z", "holds")]
     typed = {"notes": hj, "claims": [{"claim": "t", "verdict": "Holds", "ours": "1 [0, 2]", "paper": 3}]}
     assert [(c.claim, c.verdict, c.paper, c.why) for c in claims_of(typed)] == [("t", "holds", "3", "")]

@@ -14,12 +14,14 @@ from navlab.graphs.region_graph import superpixel_graph
 from navlab.maps.network import WalkableNetwork
 from navlab.maps.semantic_map import SemanticMap
 from navlab.maps.tiles import Tile
-from navlab.surenav.context.benchmark import label_table_cost, oracle_cost, run_name
+from navlab.surenav.benchmark import Outcome
+from navlab.surenav.context.benchmark import LABEL_PSI, label_table_cost, oracle_cost, run_name
+from navlab.surenav.context.benchmark import claims as context_claims
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
 from navlab.surenav.context.tiles import split_tiles
 from navlab.surenav.context.training import EstimatorRun, demo_sample, estimator_runs
-from navlab.surenav.demo_priors import DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
+from navlab.surenav.demo_priors import DSTAR, DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
 from navlab.surenav.experts.environments import Demonstration
 from navlab.surenav.experts.store import MapDemos
 from synthetic_city import city
@@ -188,3 +190,25 @@ def test_the_best_per_label_field_is_chosen_on_validation_demonstrations_only(mo
     for args in (([train], [test]), ([test], [val]), ([train], [])):
         with pytest.raises(ValueError, match="never chosen on the test set"):
             measure.select_field(*args, PARAMS.surenav.benchmark, PARAMS.surenav.graph)
+
+
+def test_context_claims_hold_only_where_the_paired_interval_excludes_zero():
+    def outcome(method: str, env: int, frechet: float, iou: float) -> Outcome:
+        return Outcome(method, f"env{env}", "tile", "reached", True, 10.0, 10.0, 1.0, 0.0, frechet, iou, (),
+                       np.zeros((0, 2)))
+
+    surenav = [(0.30 + 0.01 * e, 0.50 + 0.01 * e) for e in range(6)]
+    outcomes = [outcome(f"SuReNav [seed {s}]", e, f, i) for s in (0, 1) for e, (f, i) in enumerate(surenav)]
+    outcomes += [outcome(DSTAR, e, f + 0.2, i - 0.1) for e, (f, i) in enumerate(surenav)]  # SuReNav better
+    outcomes += [outcome(LABEL_PSI, e, f + (0.05 if e % 2 else -0.05), i + 0.1)  # Fréchet: no difference
+                 for e, (f, i) in enumerate(surenav)]
+    got = context_claims(outcomes, seed=0, resamples=200)
+    verdicts = [(c.claim, c.verdict, c.paper, c.why) for c in got]
+    assert verdicts == [
+        ("SuReNav's relaxation IoU above D* Lite's, paired 95% interval excluding zero", "holds", "", ""),
+        ("SuReNav's Fréchet below D* Lite's, paired 95% interval excluding zero", "holds", "", ""),
+        (f"SuReNav's relaxation IoU above {LABEL_PSI}'s, paired 95% interval excluding zero", "does not hold", "", ""),
+        (f"SuReNav's Fréchet below {LABEL_PSI}'s, paired 95% interval excluding zero", "does not hold", "", ""),
+    ]
+    assert [c.ours.split(" [")[0] for c in got] == ["Δ +0.100", "Δ -0.200", "Δ -0.100", "Δ +0.000"]
+    assert got[0].ours == "Δ +0.100 [0.1, 0.1]" and got[0].line() == f"{got[0].claim}: holds (Δ +0.100 [0.1, 0.1])"

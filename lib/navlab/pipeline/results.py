@@ -84,6 +84,7 @@ SHOWN = {
 
 # ---------------------------------------------------------------------------------------------- claims
 
+# "undecided": SuReNav's word for "inconclusive" in notes written before it used metrics.tables.Claim
 VERDICTS = {"holds": "holds", "does not hold": "does not hold", "inconclusive": "inconclusive",
             "undecided": "inconclusive"}
 _VERDICT = r"(?P<verdict>holds|does not hold|inconclusive|undecided)"

@@ -50,6 +50,8 @@ _KM, _HSCALE, _HALF, _HALF_DIAG = range(4)
 
 
 # ---- indexed binary heap (one entry per cell; key (k1, k2), ties by cell index) -------------------------
+# The queue travels as one tuple ``queue = (heap, pos, size, key)``: heap[:size[0]] the queued cells in heap
+# order, pos[s] the heap index of s (-1: not queued), size (1,) the queue length, key (cells, 2) the keys.
 
 @njit(cache=True, inline="always")
 def _less(key, a, b):
@@ -93,8 +95,9 @@ def _sift_down(heap, pos, key, i, n):
 
 
 @njit(cache=True)
-def _queue_set(heap, pos, size, key, s, k1, k2):
+def _queue_set(queue, s, k1, k2):
     """Insert s, or move it to its new key when it is already queued (U.Insert / U.Update)."""
+    heap, pos, size, key = queue
     key[s, 0], key[s, 1] = k1, k2
     i = pos[s]
     if i < 0:
@@ -109,7 +112,8 @@ def _queue_set(heap, pos, size, key, s, k1, k2):
 
 
 @njit(cache=True)
-def _queue_remove(heap, pos, size, key, s):
+def _queue_remove(queue, s):
+    heap, pos, size, key = queue
     i = pos[s]
     pos[s] = -1
     n = size[0] - 1
@@ -158,17 +162,18 @@ def _best_successor(cost, g, sc, s, width):
 
 
 @njit(cache=True)
-def _update_vertex(cost, g, rhs, heap, pos, size, key, sc, start, width, u):
+def _update_vertex(g, rhs, queue, sc, start, width, u):
     if g[u] != rhs[u]:
         m = min(g[u], rhs[u])
-        _queue_set(heap, pos, size, key, u, m + _h(start, u, width, sc[_HSCALE]) + sc[_KM], m)
-    elif pos[u] >= 0:
-        _queue_remove(heap, pos, size, key, u)
+        _queue_set(queue, u, m + _h(start, u, width, sc[_HSCALE]) + sc[_KM], m)
+    elif queue[1][u] >= 0:  # queued (pos[u] >= 0)
+        _queue_remove(queue, u)
 
 
 @njit(cache=True)
-def _compute_shortest_path(cost, g, rhs, heap, pos, size, key, sc, start, goal, width):
+def _compute_shortest_path(cost, g, rhs, queue, sc, start, goal, width):
     """ComputeShortestPath() of the optimised D* Lite; returns the number of cells expanded."""
+    heap, _, size, key = queue
     expansions = 0
     steps = _neighbours(width)
     while size[0] > 0:
@@ -181,18 +186,18 @@ def _compute_shortest_path(cost, g, rhs, heap, pos, size, key, sc, start, goal, 
         m = min(g[u], rhs[u])
         k_new1 = m + _h(start, u, width, sc[_HSCALE]) + sc[_KM]
         if key[u, 0] < k_new1 or (key[u, 0] == k_new1 and key[u, 1] < m):
-            _queue_set(heap, pos, size, key, u, k_new1, m)
+            _queue_set(queue, u, k_new1, m)
             continue
         expansions += 1
         if g[u] > rhs[u]:  # over-consistent: settle u and relax its predecessors
             g[u] = rhs[u]
-            _queue_remove(heap, pos, size, key, u)
+            _queue_remove(queue, u)
             for step in steps:
                 s = u + step
                 if s != goal and cost[s] != np.inf:
                     through_u = _edge(cost, sc, s, u, width) + g[u]
                     rhs[s] = min(rhs[s], through_u)
-                    _update_vertex(cost, g, rhs, heap, pos, size, key, sc, start, width, s)
+                    _update_vertex(g, rhs, queue, sc, start, width, s)
         else:  # under-consistent: raise u to inf and repair the predecessors whose rhs came through it
             g_old = g[u]
             g[u] = np.inf
@@ -201,15 +206,15 @@ def _compute_shortest_path(cost, g, rhs, heap, pos, size, key, sc, start, goal, 
                 if s != goal and cost[s] != np.inf:
                     if rhs[s] == _edge(cost, sc, s, u, width) + g_old:
                         rhs[s] = _best_successor(cost, g, sc, s, width)[0]
-                    _update_vertex(cost, g, rhs, heap, pos, size, key, sc, start, width, s)
+                    _update_vertex(g, rhs, queue, sc, start, width, s)
             if u != goal and rhs[u] == g_old:
                 rhs[u] = _best_successor(cost, g, sc, u, width)[0] if cost[u] != np.inf else np.inf
-            _update_vertex(cost, g, rhs, heap, pos, size, key, sc, start, width, u)
+            _update_vertex(g, rhs, queue, sc, start, width, u)
     return expansions
 
 
 @njit(cache=True)
-def _change_costs(cost, g, rhs, heap, pos, size, key, sc, start, goal, width, cells, new_costs):
+def _change_costs(cost, g, rhs, queue, sc, start, goal, width, cells, new_costs):
     """Apply cell cost changes one directed edge at a time (the paper's edge-change loop in Main)."""
     steps = _neighbours(width)
     for k in range(cells.size):
@@ -232,7 +237,7 @@ def _change_costs(cost, g, rhs, heap, pos, size, key, sc, start, goal, width, ce
                     rhs[u] = min(rhs[u], c_new + g[v])
                 elif rhs[u] == c_old + g[v]:
                     rhs[u] = _best_successor(cost, g, sc, u, width)[0] if cost[u] != np.inf else np.inf
-                _update_vertex(cost, g, rhs, heap, pos, size, key, sc, start, width, u)
+                _update_vertex(g, rhs, queue, sc, start, width, u)
 
 
 @njit(cache=True)
@@ -286,17 +291,17 @@ class DStarLite:
         self._sc = np.array([0.0, octile_scale(interior, self.resolution) * (1.0 - DEFLATE),
                              0.5 * self.resolution, 0.5 * SQRT2 * self.resolution])
         self._g, self._rhs = np.full(n, np.inf), np.full(n, np.inf)
-        self._key = np.zeros((n, 2))
-        self._heap, self._pos, self._size = np.zeros(n, np.int64), np.full(n, -1, np.int64), np.zeros(1, np.int64)
+        # the queue tuple (heap, pos, size, key) of the heap section; built once per restart, updated in place
+        self._queue = (np.zeros(n, np.int64), np.full(n, -1, np.int64), np.zeros(1, np.int64), np.zeros((n, 2)))
         self._last = self._start
         self._rhs[self._goal] = 0.0
         self._update_vertex(self._goal)
 
     def _state(self):
-        return self._cost, self._g, self._rhs, self._heap, self._pos, self._size, self._key, self._sc
+        return self._cost, self._g, self._rhs, self._queue, self._sc
 
     def _update_vertex(self, u: int) -> None:
-        _update_vertex(*self._state(), self._start, self._width, u)
+        _update_vertex(self._g, self._rhs, self._queue, self._sc, self._start, self._width, u)
 
     def _sync_km(self) -> None:
         """k_m += h(s_last, s_start) before any key is computed for the agent's new cell."""

@@ -1,14 +1,14 @@
 """Table I and Fig. 4 of SuReNav as report tables: our rows, the paper's, the notes and the claim verdicts.
 
 The notebooks only run the benchmark and hand the outcomes here; what is printed beside what, which
-methods are null and why, and which of the paper's claims hold are decided in this module.
+methods are null and why, and which of the paper's claims hold are decided in this module. The tables and
+claims are ``navlab.metrics.tables``' ``Table`` and ``Claim``, as for HJ and PACER.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from navlab.core.params.surenav_benchmark import BenchmarkParams
+from navlab.metrics.tables import Table
 from navlab.surenav import paper
 from navlab.surenav.benchmark import (
     EXPERT,
@@ -28,17 +28,6 @@ from navlab.surenav.demo_priors import dstar_note
 
 _INTERVALS = ("95% intervals: percentile bootstrap over environments for means ({n} resamples), Wilson for "
               "success rates.")
-
-
-@dataclass(frozen=True)
-class Table:
-    table_id: str
-    paper_ref: str
-    columns: list[str]
-    rows: list[dict]
-    paper_rows: list[dict]
-    notes: str
-    claims: list[paper.Claim]
 
 
 def _missing(methods) -> str:

@@ -52,6 +52,7 @@ from navlab.core.seeding import rng
 from navlab.graphs.region_graph import RegionGraph
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.metrics.navigation import risk_table
+from navlab.metrics.tables import Claim, Table
 from navlab.sim.semi_static import Policy
 from navlab.surenav import paper
 from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, RCRPolicy
@@ -80,7 +81,6 @@ from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.demo_priors import DSTAR, class_order, dstar_note, dstar_readings, label_traversal
 from navlab.surenav.episodes import Environment
 from navlab.surenav.policy import SuReNavPolicy
-from navlab.surenav.tables import Table
 from navlab.surenav.train import read_log
 from navlab.surenav.windows import PlanningWindow, prior_hard
 
@@ -228,7 +228,7 @@ def paired(outcomes: list[Outcome], a: str, b: str, column: str, seed: int, resa
     return {"delta": float(diff.mean()), "ci": [round(lo, 4), round(hi, 4)]}
 
 
-def claims(outcomes: list[Outcome], seed: int, resamples: int, surenav: str = SURENAV) -> list[paper.Claim]:
+def claims(outcomes: list[Outcome], seed: int, resamples: int, surenav: str = SURENAV) -> list[Claim]:
     """SuReNav's IoU above and Fréchet below every D* Lite reading and the label-table Psi, each paired
     interval excluding zero (the issue's done-when)."""
     out = []
@@ -236,8 +236,8 @@ def claims(outcomes: list[Outcome], seed: int, resamples: int, surenav: str = SU
         for column, word, sign in (("relaxation_iou", "relaxation IoU above", 1), ("frechet", "Fréchet below", -1)):
             p = paired(outcomes, surenav, other, column, seed, resamples)
             holds = bool(p["ci"][0] > 0) if sign > 0 else bool(p["ci"][1] < 0)
-            out.append(paper.Claim(f"{surenav}'s {word} {other}'s, paired 95% interval excluding zero", holds,
-                                   f"Δ {p['delta']:+.3f} {p['ci']}"))
+            out.append(Claim.of(f"{surenav}'s {word} {other}'s, paired 95% interval excluding zero", holds,
+                                f"Δ {p['delta']:+.3f} {p['ci']}"))
     return out
 
 
