@@ -49,14 +49,15 @@ def _committed_reports(tmp_path, monkeypatch):
     """A checkout (params.yaml, two committed reports) as the working directory; returns a regenerated copy."""
     import shutil
 
+    from navlab.metrics.tables import Table
     from navlab.pipeline.reports import write_table
 
     repo = tmp_path / "repo"
     repo.mkdir()
     shutil.copy("params.yaml", repo / "params.yaml")
     for table in ("table1_seen", "table2_unseen"):
-        write_table(repo / "reports", "pacer", table, paper_ref="Table", profile="smoke", seeds=[0],
-                    columns=["method", "low"], rows=[{"method": "PACER", "low": 0.5}], paper_rows=[], notes="")
+        write_table(repo / "reports", Table(table, "Table", ["method", "low"], [{"method": "PACER", "low": 0.5}], [], ""),
+                    track="pacer", profile="smoke", seeds=[0])
     _git(repo, "init", "-q")
     _git(repo, "add", ".")
     _git(repo, "commit", "-q", "-m", "reports")
@@ -92,10 +93,11 @@ def test_report_write_on_a_full_disk_is_one_line(tmp_path, monkeypatch, capsys):
     import errno
     from pathlib import Path
 
+    from navlab.metrics.tables import Table
     from navlab.pipeline.reports import write_table
 
-    write_table(tmp_path, "pacer", "table1_seen", paper_ref="Table", profile="smoke", seeds=[0],
-                columns=["method", "low"], rows=[{"method": "PACER", "low": 0.5}], paper_rows=[], notes="")
+    write_table(tmp_path, Table("table1_seen", "Table", ["method", "low"], [{"method": "PACER", "low": 0.5}], [], ""),
+                track="pacer", profile="smoke", seeds=[0])
 
     def full(self, data):
         raise OSError(errno.ENOSPC, "No space left on device")

@@ -1,18 +1,17 @@
 import json
 
+from navlab.metrics.tables import Claim, Table
 from navlab.pipeline.reports import read_table, write_table
-from navlab.pipeline.results import write_index
+from navlab.pipeline.results import claims_of, write_index
 
 
 def test_table_round_trip_markdown_and_index(tmp_path):
-    path = write_table(
-        tmp_path, "surenav", "table1_human_likeness", paper_ref="SuReNav Table I", profile="smoke", seeds=[0],
-        columns=["method", "frechet", "relaxation_iou"],
-        rows=[{"method": "SuReNav", "frechet": 0.5, "relaxation_iou": float("nan")}],
-        paper_rows=[{"method": "SuReNav", "frechet": 0.334, "relaxation_iou": 0.416},
-                    {"method": "COA*", "frechet": 0.6, "relaxation_iou": 0.1}],
-        notes="smoke run",
-    )
+    table = Table("table1_human_likeness", "SuReNav Table I", ["method", "frechet", "relaxation_iou"],
+                  [{"method": "SuReNav", "frechet": 0.5, "relaxation_iou": float("nan")}],
+                  [{"method": "SuReNav", "frechet": 0.334, "relaxation_iou": 0.416},
+                   {"method": "COA*", "frechet": 0.6, "relaxation_iou": 0.1}], "smoke run",
+                  claims=(Claim("SuReNav is closer to people", "does not hold", "0.5", paper="0.334", why="smoke"),))
+    path = write_table(tmp_path, table, track="surenav", profile="smoke", seeds=[0])
     report = read_table(path)
     assert report["rows"][0]["relaxation_iou"] is None  # a failed number is null, never made up
     assert report["metrics"] == {"SuReNav": {"frechet": 0.5, "relaxation_iou": None}}
@@ -22,6 +21,8 @@ def test_table_round_trip_markdown_and_index(tmp_path):
     index = write_index(tmp_path).read_text()
     assert "SuReNav Table I" in index and "surenav/table1_human_likeness.md" in index
     json.loads(path.read_text())
+    assert claims_of(report) == list(table.claims)  # typed in the JSON, read back as written
+    assert "| SuReNav is closer to people | 0.334 | 0.5 | **does not hold** | smoke |" in md
 
 
 def test_rows_with_the_same_key_are_an_error_not_a_lost_row(tmp_path):
@@ -29,14 +30,14 @@ def test_rows_with_the_same_key_are_an_error_not_a_lost_row(tmp_path):
 
     rows = [{"method": "A*", "eps": 1.0, "cost": 3.0}, {"method": "A*", "eps": 2.0, "cost": 2.5}]
     with pytest.raises(ValueError, match="two rows share the key {'method': 'A\\*'}"):
-        write_table(tmp_path, "hj", "t", paper_ref="x", profile="smoke", seeds=[0], columns=["method", "eps", "cost"],
-                    rows=rows, paper_rows=[], notes="")
+        write_table(tmp_path, Table("t", "x", ["method", "eps", "cost"], rows, [], ""),
+                    track="hj", profile="smoke", seeds=[0])
     assert not (tmp_path / "hj").exists()
 
 
 def test_index_lists_every_design_table_without_a_report(tmp_path):
-    write_table(tmp_path, "pacer", "table1_seen", paper_ref="PACER Table I", profile="smoke", seeds=[0],
-                columns=["method", "low"], rows=[{"method": "PACER", "low": 0.3}], paper_rows=[], notes="")
+    write_table(tmp_path, Table("table1_seen", "PACER Table I", ["method", "low"], [{"method": "PACER", "low": 0.3}], [], ""),
+                track="pacer", profile="smoke", seeds=[0])
     index = write_index(tmp_path).read_text()
     pending = index.split("## Not reproduced yet", 1)[1]
     assert "`pacer/table1_seen`" not in pending and "`pacer/table2_unseen`" in pending

@@ -3,6 +3,7 @@
 import re
 from pathlib import Path
 
+from navlab.metrics.tables import Table
 from navlab.pipeline.reports import write_table
 from navlab.pipeline.results import (
     BEGIN,
@@ -68,13 +69,13 @@ def test_claims_are_read_from_each_notes_form_and_from_typed_data():
 
 
 def test_a_table_shows_the_papers_columns_with_inline_intervals(tmp_path):
-    write_table(tmp_path, "pacer", "table1_seen", paper_ref="PACER Table I", profile="smoke", seeds=[0],
-                columns=["method", "maps", "low", "low_ci", "high", "loss"],
-                rows=[{"method": "PACER", "maps": 20, "low": 0.75, "low_ci": [0.4712, 0.9123], "high": 0.1, "loss": 2.0},
-                      {"method": "Oracle", "maps": 20, "low": 0.9, "low_ci": [0.8, 0.95], "high": 0.0, "loss": 1.0}],
-                paper_rows=[{"method": "PACER", "maps": 20, "low": 0.7, "high": None},
-                            {"method": "Classifier", "maps": 20, "low": 0.6, "high": None}],
-                notes="Claim 'PACER is good': holds (0.75).")
+    rows = [{"method": "PACER", "maps": 20, "low": 0.75, "low_ci": [0.4712, 0.9123], "high": 0.1, "loss": 2.0},
+            {"method": "Oracle", "maps": 20, "low": 0.9, "low_ci": [0.8, 0.95], "high": 0.0, "loss": 1.0}]
+    paper_rows = [{"method": "PACER", "maps": 20, "low": 0.7, "high": None},
+                  {"method": "Classifier", "maps": 20, "low": 0.6, "high": None}]
+    table = Table("table1_seen", "PACER Table I", ["method", "maps", "low", "low_ci", "high", "loss"], rows, paper_rows,
+                  "Claim 'PACER is good': holds (0.75).")
+    write_table(tmp_path, table, track="pacer", profile="smoke", seeds=[0])
     page = write_index(tmp_path).read_text()
     assert "| method | maps | low | low (paper) | high |" in page  # loss is ours alone: a diagnostic
     assert "| PACER | 20 | 0.75 [0.471, 0.912] | 0.7 | 0.1 |" in page

@@ -1,9 +1,9 @@
 """Report files: the contract between notebooks, the README, DVC metrics and reviewers (DESIGN.md).
 
 Each reproduced table is ``reports/<paper>/<table_id>.json`` (our numbers beside the paper's) and a
-Markdown twin; ``write_index`` gathers every table into ``reports/README.md``. Beyond the DESIGN.md
-keys, the JSON carries ``metrics``: our rows again, keyed by row, because `dvc metrics show/diff`
-only read numbers out of mappings, not out of the ``rows`` list.
+Markdown twin (the claims as a table); ``pipeline.results.write_index`` gathers them into the results
+page. Beyond the DESIGN.md keys, the JSON carries the typed ``claims`` and ``metrics``: our rows again,
+keyed by row, because `dvc metrics show/diff` only read numbers out of mappings, not out of ``rows``.
 """
 
 from __future__ import annotations
@@ -12,10 +12,12 @@ import json
 import math
 from collections import Counter
 from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from navlab.core.io import DataError, write_json, write_text
+from navlab.core.io import write_json, write_text
+from navlab.metrics.tables import Table
 
 REQUIRED = ("table_id", "paper_ref", "profile", "seeds", "columns", "rows", "paper", "notes")
 TABLE_IDS = {  # every paper table DESIGN.md promises; the index lists the ones without a report yet
@@ -28,37 +30,28 @@ TABLE_IDS = {  # every paper table DESIGN.md promises; the index lists the ones 
 }
 
 
-def write_table(
-    reports_dir: str | Path,
-    paper: str,
-    table_id: str,
-    *,
-    paper_ref: str,
-    profile: str,
-    seeds: Sequence[int],
-    columns: Sequence[str],
-    rows: Sequence[dict[str, Any]],
-    paper_rows: Sequence[dict[str, Any]],
-    notes: str,
-) -> Path:
-    """Write the JSON and Markdown twin of one table; returns the JSON path.
+def write_table(reports_dir: str | Path, table: Table, *, track: str, profile: str, seeds: Sequence[int]) -> Path:
+    """Write the JSON and Markdown twin of ``table`` under ``reports_dir/track``; returns the JSON path.
 
-    ``rows`` hold what we measured; ``paper_rows`` the paper's printed numbers for the same columns.
-    Non-finite numbers become ``null`` (a method that failed), never a made-up figure.
+    Our rows beside the paper's printed numbers for the same columns, and the claims as typed data (the
+    results page and `dvc metrics` read them, not the notes). Non-finite numbers become ``null`` (a method
+    that failed), never a made-up figure.
     """
+    table_id, columns, rows, paper_rows = table.table_id, table.columns, table.rows, table.paper_rows
     for r in (*rows, *paper_rows):
         extra = set(r) - set(columns)
         if extra:
             raise ValueError(f"{table_id}: row has keys {sorted(extra)} not in columns {list(columns)}")
     report = {
         "table_id": table_id,
-        "paper_ref": paper_ref,
+        "paper_ref": table.paper_ref,
         "profile": profile,
         "seeds": [int(s) for s in seeds],
         "columns": list(columns),
         "rows": [_clean(r) for r in rows],
         "paper": [_clean(r) for r in paper_rows],
-        "notes": notes,
+        "notes": table.notes,
+        "claims": [asdict(c) for c in table.claims],
     }
     keys = key_columns(report)
     for which in ("rows", "paper"):  # the Markdown and `metrics` pair rows by key: a repeat would vanish
@@ -68,7 +61,7 @@ def write_table(
             raise ValueError(f"{table_id}: two {which} share the key {dict(zip(keys, repeated, strict=True))}; "
                              "add a text column that tells them apart (e.g. the map or the setting)")
     report["metrics"] = _metrics_by_row(report)
-    out = Path(reports_dir) / paper
+    out = Path(reports_dir) / track
     write_json(out / f"{table_id}.json", report)
     write_text(out / f"{table_id}.md", to_markdown(report))
     return out / f"{table_id}.json"
@@ -139,31 +132,10 @@ def to_markdown(report: dict[str, Any]) -> str:
             cells.append(f"**{a}** / {b}")
         lines.append("| " + " | ".join(cells) + " |")
     lines += ["", report["notes"], ""]
+    if report.get("claims"):
+        lines += ["| claim | paper | ours | verdict | why |", "|---|---|---|---|---|"]
+        lines += [f"| {c['claim']} | {c['paper'] or '—'} | {c['ours']} | **{c['verdict']}** | {c['why'] or '—'} |"
+                  for c in report["claims"]]
+        lines.append("")
     return "\n".join(lines)
 
-
-def write_index(reports_dir: str | Path) -> Path:
-    """``reports/README.md``: every table found under ``reports_dir``, ours beside the paper's."""
-    reports_dir = Path(reports_dir)
-    if not reports_dir.is_dir():
-        raise DataError(f"{reports_dir}/ does not exist; pass the reports folder (default: reports), e.g. "
-                        "`python -m navlab reports index --reports-dir reports`")
-    parts = [
-        "# Reproduced results",
-        "",
-        "Generated by `python -m navlab reports index` from the JSON reports; each table links to its",
-        "Markdown twin. Cells are **ours** / paper. Our data and sizes differ from the papers' (see notes).",
-        "",
-    ]
-    for path in sorted(reports_dir.glob("*/*.json")):
-        report = read_table(path)
-        body = to_markdown(report).split("\n", 2)[2]
-        rel = path.with_suffix(".md").relative_to(reports_dir)
-        parts += [f"## [{report['paper_ref']}]({rel}) (`{report['table_id']}`)", "", body.strip(), ""]
-    missing = [f"`{paper}/{t}`" for paper, ids in TABLE_IDS.items() for t in ids
-               if not (reports_dir / paper / f"{t}.json").is_file()]
-    if missing:
-        parts += ["## Not reproduced yet", "", "No report exists yet for: " + ", ".join(missing) + ".", ""]
-    out = reports_dir / "README.md"
-    write_text(out, "\n".join(parts) + "\n")
-    return out

@@ -18,6 +18,7 @@ import torch
 from torch import nn
 
 from navlab.core.params.surenav_model import TrainParams
+from navlab.metrics.tables import Table
 from navlab.surenav.artifacts import VARIANTS, model_path
 from navlab.surenav.train import evaluate, load_estimator
 from navlab.surenav.training_data import Sample
@@ -62,3 +63,8 @@ def estimator_rows(artifacts_dir: str | Path, seeds: Mapping[str, Sequence[int]]
         if "val_iou" in row and "test_iou" in row:
             row["test_minus_val"] = row["test_iou"] - row["val_iou"]
     return rows
+
+
+def estimator_table(rows: list[dict]) -> Table:
+    """``estimator_rows`` as a report (the paper prints no such number, so no paper rows and no claim)."""
+    return Table("estimator_relaxation_iou", "SuReNav Sec. IV-D (no printed figure)", list(COLUMNS), rows, [], NOTES)
