@@ -47,7 +47,11 @@ class Demonstration:
         return out
 
 
-def _record(kind, path, labels, superpixels, frame, start, goal, persona, jaywalked, delta=None, prefix_len=0):
+def _record(kind, path, scene, ends, persona, jaywalked, delta=None, prefix_len=0):
+    """One demonstration: ``scene`` = (labels, superpixels, frame) the path was drawn on, ``ends`` = its
+    (start, goal) cells; ``delta`` the semi-static change (cells, new labels) where there is one."""
+    labels, superpixels, frame = scene
+    start, goal = ends
     relaxed = relaxed_cells(labels, path, frame)
     cells, new = delta if delta is not None else (np.zeros(0, np.int64), np.zeros(0, np.uint8))
     return Demonstration(kind=kind, path=path.astype(np.float32), start=frame.cell_to_world(start),
@@ -78,7 +82,7 @@ def _semi_static(semantic_map, superpixels, static, start, goal, persona, rng, s
             continue
         path = np.concatenate([static.path[:cut], redraw.path])
         updated = resegment(superpixels, change.labels, change.changed, compactness)
-        return _record("semi_static", path, change.labels, updated, frame, start, goal, persona,
+        return _record("semi_static", path, (change.labels, updated, frame), (start, goal), persona,
                        redraw.jaywalked, delta=change.delta(), prefix_len=cut)
     return None
 
@@ -111,7 +115,8 @@ def map_environments(semantic_map: SemanticMap, superpixels: np.ndarray, n_pairs
                                compactness)
         if variant is None:
             continue
-        static.append(_record("static", demo.path, labels, superpixels, frame, start, goal, persona, demo.jaywalked))
+        static.append(_record("static", demo.path, (labels, superpixels, frame), (start, goal), persona,
+                              demo.jaywalked))
         semi.append(variant)
         if len(static) == n_pairs:
             break
