@@ -95,3 +95,24 @@ def test_bad_resolution_is_an_error(resolution):
 def test_start_equals_goal_is_a_one_cell_path():
     path = plan(np.ones((3, 3)), (1, 1), (1, 1))
     assert path.cost == 0.0 and path.cells.tolist() == [[1, 1]]
+
+
+@pytest.mark.parametrize("seed,rows,cols", [(0, 200, 200), (1, 150, 240)])
+def test_large_grids_equal_plain_reference(seed, rows, cols):
+    """Long searches over big open lists (thousands of decrease-keys in ``heap``'s indexed heap), walls and
+    uniform costs (many f ties): path, cost bits and expansions are exactly the plain-Python heapq A*'s."""
+    rng = np.random.default_rng(seed)
+    cost = np.ones((rows, cols)) if seed % 2 == 0 else rng.choice([1.0, 1.5, 2.0, 3.0], (rows, cols))
+    cost[rng.random((rows, cols)) < 0.2] = np.inf
+    for _ in range(5):
+        r, c = rng.integers(0, rows), rng.integers(0, cols)
+        cost[r, max(0, c - 50):c + 50] = np.inf
+    free = np.argwhere(np.isfinite(cost))
+    for diagonal in (True, False):
+        start, goal = (tuple(int(v) for v in free[rng.integers(len(free))]) for _ in range(2))
+        ours = plan(cost, start, goal, diagonal=diagonal, resolution=0.7)
+        reference = astar_reference(cost, start, goal, diagonal=diagonal, resolution=0.7)
+        assert ours.cost == reference.cost and ours.expansions == reference.expansions
+        assert (ours.cells is None) == (reference.cells is None)
+        if ours.cells is not None:
+            np.testing.assert_array_equal(ours.cells, reference.cells)

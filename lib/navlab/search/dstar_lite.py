@@ -30,6 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
+from navlab.search import heap
 from navlab.search.grid_astar import (
     SQRT2,
     GridPath,
@@ -49,82 +50,15 @@ DEFLATE = 1e-7
 _KM, _HSCALE, _HALF, _HALF_DIAG = range(4)
 
 
-# ---- indexed binary heap (one entry per cell; key (k1, k2), ties by cell index) -------------------------
-# The queue travels as one tuple ``queue = (heap, pos, size, key)``: heap[:size[0]] the queued cells in heap
-# order, pos[s] the heap index of s (-1: not queued), size (1,) the queue length, key (cells, 2) the keys.
-
-@njit(cache=True, inline="always")
-def _less(key, a, b):
-    if key[a, 0] != key[b, 0]:
-        return key[a, 0] < key[b, 0]
-    if key[a, 1] != key[b, 1]:
-        return key[a, 1] < key[b, 1]
-    return a < b
-
-
-@njit(cache=True)
-def _sift_up(heap, pos, key, i):
-    item = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        if not _less(key, item, heap[parent]):
-            break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
-        i = parent
-    heap[i] = item
-    pos[item] = i
-
-
-@njit(cache=True)
-def _sift_down(heap, pos, key, i, n):
-    item = heap[i]
-    while True:
-        child = 2 * i + 1
-        if child >= n:
-            break
-        if child + 1 < n and _less(key, heap[child + 1], heap[child]):
-            child += 1
-        if not _less(key, heap[child], item):
-            break
-        heap[i] = heap[child]
-        pos[heap[i]] = i
-        i = child
-    heap[i] = item
-    pos[item] = i
-
+# The queue is ``heap``'s indexed heap (one entry per cell; key (k1, k2), ties by cell index), travelling as
+# one tuple ``queue = (heap, pos, size, key)``: pos[s] < 0 when s is not queued.
 
 @njit(cache=True)
 def _queue_set(queue, s, k1, k2):
     """Insert s, or move it to its new key when it is already queued (U.Insert / U.Update)."""
-    heap, pos, size, key = queue
+    key = queue[3]
     key[s, 0], key[s, 1] = k1, k2
-    i = pos[s]
-    if i < 0:
-        i = size[0]
-        size[0] = i + 1
-        heap[i] = s
-        pos[s] = i
-        _sift_up(heap, pos, key, i)
-    else:
-        _sift_up(heap, pos, key, i)
-        _sift_down(heap, pos, key, pos[s], size[0])
-
-
-@njit(cache=True)
-def _queue_remove(queue, s):
-    heap, pos, size, key = queue
-    i = pos[s]
-    pos[s] = -1
-    n = size[0] - 1
-    size[0] = n
-    if i == n:
-        return
-    item = heap[n]
-    heap[i] = item
-    pos[item] = i
-    _sift_up(heap, pos, key, i)
-    _sift_down(heap, pos, key, pos[item], n)
+    heap.insert_or_update(queue, s)
 
 
 # ---- D* Lite procedures (names as in the paper's Fig. 4) ------------------------------------------------
@@ -167,17 +101,17 @@ def _update_vertex(g, rhs, queue, sc, start, width, u):
         m = min(g[u], rhs[u])
         _queue_set(queue, u, m + _h(start, u, width, sc[_HSCALE]) + sc[_KM], m)
     elif queue[1][u] >= 0:  # queued (pos[u] >= 0)
-        _queue_remove(queue, u)
+        heap.remove(queue, u)
 
 
 @njit(cache=True)
 def _compute_shortest_path(cost, g, rhs, queue, sc, start, goal, width):
     """ComputeShortestPath() of the optimised D* Lite; returns the number of cells expanded."""
-    heap, _, size, key = queue
+    top, _, size, key = queue
     expansions = 0
     steps = _neighbours(width)
     while size[0] > 0:
-        u = heap[0]
+        u = top[0]
         m_start = min(g[start], rhs[start])
         k_start1 = m_start + sc[_KM]
         top_below = key[u, 0] < k_start1 or (key[u, 0] == k_start1 and key[u, 1] < m_start)
@@ -191,7 +125,7 @@ def _compute_shortest_path(cost, g, rhs, queue, sc, start, goal, width):
         expansions += 1
         if g[u] > rhs[u]:  # over-consistent: settle u and relax its predecessors
             g[u] = rhs[u]
-            _queue_remove(queue, u)
+            heap.remove(queue, u)
             for step in steps:
                 s = u + step
                 if s != goal and cost[s] != np.inf:
@@ -291,8 +225,8 @@ class DStarLite:
         self._sc = np.array([0.0, octile_scale(interior, self.resolution) * (1.0 - DEFLATE),
                              0.5 * self.resolution, 0.5 * SQRT2 * self.resolution])
         self._g, self._rhs = np.full(n, np.inf), np.full(n, np.inf)
-        # the queue tuple (heap, pos, size, key) of the heap section; built once per restart, updated in place
-        self._queue = (np.zeros(n, np.int64), np.full(n, -1, np.int64), np.zeros(1, np.int64), np.zeros((n, 2)))
+        # the queue (heap, pos, size, key) of heap.new_indexed; built once per restart, updated in place
+        self._queue = heap.new_indexed(n, 2)
         self._last = self._start
         self._rhs[self._goal] = 0.0
         self._update_vertex(self._goal)

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from navlab.search import heap
+
 SQRT2 = math.sqrt(2.0)
 
 
@@ -69,77 +71,72 @@ def octile_scale(cost: np.ndarray, resolution: float) -> float:
     return float(cost[np.isfinite(cost)].min()) * resolution
 
 
-@njit(cache=True, inline="always")
-def _before(f, g, a, b):
-    """Open-list order: cell a precedes cell b by (f, g, flat index)."""
-    if f[a] != f[b]:
-        return f[a] < f[b]
-    if g[a] != g[b]:
-        return g[a] < g[b]
-    return a < b
-
-
 @njit(cache=True)
 def _search(flat_cost, width, start_i, goal_i, half_straight, half_diagonal, diagonal, h_scale, h_diagonal):
     """A* over the row-major padded raster (a border of inf cells replaces the bounds checks).
 
-    The open list is an indexed binary heap of cells: a cell whose g drops moves up in place instead of
-    being pushed again, so the heap never holds stale entries (3x faster than lazy deletion on the
-    benchmark maps). The cells come out in the same order as from the reference's lazy heapq.
+    The open list is an indexed binary heap of cells keyed by (f, g), ties by flat index (``heap.before``):
+    a cell whose g drops moves up in place instead of being pushed again, so the heap never holds stale
+    entries (3x faster than lazy deletion on the benchmark maps). The cells come out in the same order as
+    from the reference's lazy heapq. The heap's layout and order are ``heap``'s indexed heap, but its pop
+    and decrease-key are written out here: calling ``heap.pop_top`` / ``heap.insert_or_decrease`` per cell
+    made this search 20-30% slower on the ``benchmarks/grid_astar.py`` maps (the calls, inlined or not, put
+    reference-count updates of the heap arrays into the innermost loop: 16 NRT_incref calls in its IR, not
+    2). Column 1 of ``key`` is g itself.
     """
     n = flat_cost.size
     steps = np.array([-width, width, -1, 1, -width - 1, -width + 1, width - 1, width + 1])
     halves = np.array([half_straight] * 4 + [half_diagonal] * 4)
     n_moves = 8 if diagonal else 4
-    g, f = np.full(n, np.inf), np.empty(n)
+    key = np.full((n, 2), np.inf)  # (f, g) per cell; allocated here, not by heap.new_indexed: 5% faster
     parent = np.full(n, -1, np.int64)
     pos = np.full(n, -1, np.int32)  # heap slot of an open cell; -1 never opened, -2 closed
-    heap = np.empty(n, np.int32)
+    queue = np.empty(n, np.int32)
     gr, gc = goal_i // width, goal_i % width
     dr, dc = abs(start_i // width - gr), abs(start_i % width - gc)
-    g[start_i], f[start_i] = 0.0, (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale
-    heap[0], pos[start_i], size = start_i, 0, 1
+    key[start_i, 0], key[start_i, 1] = (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, 0.0
+    queue[0], pos[start_i], size = start_i, 0, 1
     expansions = 0
     while size > 0:
-        i = heap[0]
+        i = queue[0]
         pos[i] = -2
         size -= 1
         if size > 0:  # move the last cell to the root and sift it down
-            item, p = heap[size], 0
+            item, p = queue[size], 0
             while 2 * p + 1 < size:
                 child = 2 * p + 1
-                if child + 1 < size and _before(f, g, heap[child + 1], heap[child]):
+                if child + 1 < size and heap.before(key, queue[child + 1], queue[child]):
                     child += 1
-                if not _before(f, g, heap[child], item):
+                if not heap.before(key, queue[child], item):
                     break
-                heap[p] = heap[child]
-                pos[heap[p]] = p
+                queue[p] = queue[child]
+                pos[queue[p]] = p
                 p = child
-            heap[p], pos[item] = item, p
+            queue[p], pos[item] = item, p
         expansions += 1
         if i == goal_i:
             break
-        g_here, c_here = g[i], flat_cost[i]
+        g_here, c_here = key[i, 1], flat_cost[i]
         for m in range(n_moves):
             j = i + steps[m]
             c_next = flat_cost[j]
             if c_next == np.inf or pos[j] == -2:
                 continue
             g_next = g_here + halves[m] * (c_here + c_next)
-            if g_next < g[j]:
-                g[j], parent[j] = g_next, i
+            if g_next < key[j, 1]:
+                parent[j] = i
                 dr, dc = abs(j // width - gr), abs(j % width - gc)
-                f[j] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale
+                key[j, 0], key[j, 1] = g_next + (max(dr, dc) + h_diagonal * min(dr, dc)) * h_scale, g_next
                 k = pos[j]
                 if k < 0:  # newly opened: start at the end
                     k = size
                     size += 1
-                while k > 0 and _before(f, g, j, heap[(k - 1) >> 1]):  # sift up
-                    heap[k] = heap[(k - 1) >> 1]
-                    pos[heap[k]] = k
+                while k > 0 and heap.before(key, j, queue[(k - 1) >> 1]):  # sift up
+                    queue[k] = queue[(k - 1) >> 1]
+                    pos[queue[k]] = k
                     k = (k - 1) >> 1
-                heap[k], pos[j] = j, k
-    return g, parent, pos[goal_i] == -2, expansions
+                queue[k], pos[j] = j, k
+    return key[:, 1], parent, pos[goal_i] == -2, expansions
 
 
 def padded_problem(cost: np.ndarray, start, goal, resolution: float):
