@@ -30,10 +30,10 @@ class Claim:
             raise ValueError(f"claim {self.claim!r}: verdict {self.verdict!r}; use one of {', '.join(VERDICTS)}")
 
     @classmethod
-    def of(cls, claim: str, ok: bool | None, ours: str, why: str = "") -> Claim:
+    def of(cls, claim: str, ok: bool | None, ours: str, why: str = "", paper: str = "") -> Claim:
         """The verdict of a yes/no test (None: inconclusive); ``why`` is kept only where it does not hold."""
         verdict = "inconclusive" if ok is None else "holds" if ok else "does not hold"
-        return cls(claim, verdict, ours, why=why if verdict == "does not hold" else "")
+        return cls(claim, verdict, ours, paper=paper, why=why if verdict == "does not hold" else "")
 
     def line(self) -> str:
         """As notes list it: ``claim: verdict (ours[; paper P][; why: W])``, the form ``claims_of`` parses."""

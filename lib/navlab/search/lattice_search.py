@@ -81,10 +81,20 @@ class StaticPruner:
     lower: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        if self.kind == S_OBS and (len(self.par) != 3 or self.par[0] < self.par[2]):  # the swept check reads
-            raise ValueError(f"OBS pruner par {list(self.par)}: give [radius + field error, value off the grid, "
-                             f"field error] with a radius >= 0 (hj.pruners.obs_pruner builds it)")
+        self._check_obs(self.par)
         object.__setattr__(self, "lower", cell_min(self.field))
+
+    def _check_obs(self, par: np.ndarray) -> None:
+        """The compiled swept check reads an OBS pruner's par[2] (the field's error bound) and needs
+        par[0] >= it: below, the threshold is a negative radius and segments through obstacles pass."""
+        if self.kind != S_OBS:
+            return
+        if len(par) != 3:
+            raise ValueError(f"OBS pruner par {list(par)}: give [radius + field error, value off the grid, "
+                             f"field error] (hj.pruners.obs_pruner builds it)")
+        if par[0] < par[2]:
+            raise ValueError(f"OBS threshold {par[0]}: below the field's error bound {par[2]:.4f} m, it would "
+                             f"let paths through obstacles; use >= that (a robot radius >= 0)")
 
     def __call__(self, samples: np.ndarray) -> np.ndarray:
         """(N, S, 4) segment samples (all successors of one expansion) -> (N,) True where pruned."""
@@ -130,11 +140,10 @@ class StaticPruner:
         not depend on the threshold, and re-deriving them costs a pass over the whole grid per call)."""
         if not math.isfinite(threshold):
             raise ValueError(f"pruner threshold {threshold}: must be a finite number (a NaN prunes nothing)")
-        if self.kind == S_OBS and threshold < self.par[2]:  # below the raster's error: a negative radius
-            raise ValueError(f"OBS threshold {threshold}: below the field's error bound {self.par[2]:.4f} m, it "
-                             f"would let paths through obstacles; use >= that (a robot radius >= 0)")
+        par = np.array([threshold, *self.par[1:]])
+        self._check_obs(par)
         twin = copy.copy(self)
-        object.__setattr__(twin, "par", np.array([threshold, *self.par[1:]]))
+        object.__setattr__(twin, "par", par)
         return twin
 
 

@@ -9,8 +9,6 @@ Each claim is a ``navlab.metrics.tables.Claim``, the type HJ and PACER use too.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from navlab.metrics.tables import Claim
@@ -182,8 +180,8 @@ def table1_claims(rows: list[dict], baselines=("D* Lite", "COA*", "RCR"), surena
                            _why_behind(best_i)))
     runner_up = max((m for m in ran if m != surenav), key=iou.get)
     ratio = iou[surenav] / max(iou[runner_up], 1e-12)
-    margin = Claim.of(texts[2], ratio >= IOU_MARGIN,
-                      f"{surenav} {iou[surenav]:.3f} vs next best {runner_up} {iou[runner_up]:.3f}: x{ratio:.2f}",
-                      _why_behind(runner_up))
-    claims.append(replace(margin, paper=f"{TABLE1[3]['relaxation_iou']} vs {TABLE1[1]['relaxation_iou']}"))
+    claims.append(Claim.of(texts[2], ratio >= IOU_MARGIN,
+                           f"{surenav} {iou[surenav]:.3f} vs next best {runner_up} {iou[runner_up]:.3f}: x{ratio:.2f}",
+                           _why_behind(runner_up),
+                           paper=f"{TABLE1[3]['relaxation_iou']} vs {TABLE1[1]['relaxation_iou']}"))
     return claims
