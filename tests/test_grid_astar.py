@@ -68,6 +68,16 @@ def test_nan_or_minus_inf_cost_is_an_error(bad):
         plan(cost, (0, 0), (4, 4))
 
 
+def assert_same_search(cost, start, goal, diagonal):
+    """The compiled search and the plain-Python heapq A* agree to the bit: cost, expansions and path."""
+    ours = plan(cost, start, goal, diagonal=diagonal, resolution=0.7)
+    reference = astar_reference(cost, start, goal, diagonal=diagonal, resolution=0.7)
+    assert ours.cost == reference.cost and ours.expansions == reference.expansions
+    assert (ours.cells is None) == (reference.cells is None)
+    if ours.cells is not None:
+        np.testing.assert_array_equal(ours.cells, reference.cells)
+
+
 @settings(max_examples=40, deadline=None)
 @given(seed=st.integers(0, 10_000), rows=st.integers(2, 20), cols=st.integers(2, 20),
        levels=st.sampled_from([1, 2, 0]), diagonal=st.booleans())
@@ -78,12 +88,7 @@ def test_compiled_search_equals_plain_reference(seed, rows, cols, levels, diagon
     cost[rng.random((rows, cols)) < 0.25] = np.inf
     start, goal = (0, 0), (rows - 1, cols - 1)
     cost[start] = cost[goal] = 1.0
-    ours = plan(cost, start, goal, diagonal=diagonal, resolution=0.7)
-    reference = astar_reference(cost, start, goal, diagonal=diagonal, resolution=0.7)
-    assert ours.cost == reference.cost and ours.expansions == reference.expansions
-    assert (ours.cells is None) == (reference.cells is None)
-    if ours.cells is not None:
-        np.testing.assert_array_equal(ours.cells, reference.cells)
+    assert_same_search(cost, start, goal, diagonal)
 
 
 @pytest.mark.parametrize("resolution", [0.0, -1.0, np.nan, np.inf])
@@ -110,9 +115,4 @@ def test_large_grids_equal_plain_reference(seed, rows, cols):
     free = np.argwhere(np.isfinite(cost))
     for diagonal in (True, False):
         start, goal = (tuple(int(v) for v in free[rng.integers(len(free))]) for _ in range(2))
-        ours = plan(cost, start, goal, diagonal=diagonal, resolution=0.7)
-        reference = astar_reference(cost, start, goal, diagonal=diagonal, resolution=0.7)
-        assert ours.cost == reference.cost and ours.expansions == reference.expansions
-        assert (ours.cells is None) == (reference.cells is None)
-        if ours.cells is not None:
-            np.testing.assert_array_equal(ours.cells, reference.cells)
+        assert_same_search(cost, start, goal, diagonal)
