@@ -46,6 +46,16 @@ def _torch_state_is_the_baseline():
     torch.set_rng_state(rng)
 
 
+@pytest.fixture
+def single_thread():
+    """One intra-op thread: small models and grids run faster on one, and on a busy 2-core machine OpenMP's
+    second thread spins against the other load (a tiny training step measured 60x slower with two)."""
+    import torch
+
+    torch.set_num_threads(1)
+    yield  # the autouse fixture above puts the baseline back
+
+
 @pytest.fixture(scope="session")
 def smoke_params():
     return load_params("smoke")

@@ -1,20 +1,10 @@
-"""Helpers shared by the reach tests: small-grid threading and an independent multilinear interpolator."""
+"""Helpers shared by the reach tests: an independent multilinear interpolator."""
 
 from __future__ import annotations
 
-import pytest
 import torch
 
 from navlab.reach.lookup import _rotate, _stack, wrap_angle
-
-
-@pytest.fixture(autouse=False)
-def single_thread():
-    """Small grids run faster on one thread, and a busy 2-core machine stalls OpenMP's second one."""
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
 
 
 def interpolate(grid, values: torch.Tensor, points: list[torch.Tensor]) -> torch.Tensor:

@@ -11,7 +11,6 @@ from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend, solve
 from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
 from reach_dynamics_support import DoubleIntegrator, SingleIntegrator, SingleIntegratorPursuitEvasion
-from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 

@@ -10,7 +10,6 @@ from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend
 from navlab.reach.value_functions import time_to_reach
 from reach_dynamics_support import SingleIntegrator
-from reach_support import single_thread  # noqa: F401
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 

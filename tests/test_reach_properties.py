@@ -11,7 +11,7 @@ from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend
 from navlab.reach.value_functions import disk_signed_distance, general_ttr, human_brt, static_brt
-from reach_support import interpolate, single_thread  # noqa: F401
+from reach_support import interpolate
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 

@@ -1,0 +1,193 @@
+"""A recognition reference for PACER's navigation tables: a terrain segmenter that is told the ordering.
+
+Why (issue 24): PACER must both *recognise* each terrain in the image and *follow* the context's
+ordering of it. The window oracle (``pacer.evaluate``) knows the labels, so it cannot say how much of
+PACER's gap to it comes from imagery in which terrains cannot be told apart. This reference separates
+the two: a fully convolutional segmenter is trained, on the same rendered BEV items PACER learns from,
+to name every pixel's terrain (cross-entropy inside the field of view), and is then *given* the map's
+true ordering. A pixel costs its expected rank cost Σ_l p(l) (l−1)/(L−1) over the map's terrains (the
+paper's H(τ_l), Sec. V-A), windows stitched as PACER's. What it reaches is what recognition of this
+imagery allows a method that follows the ordering perfectly: a ceiling for PACER that is honest about
+the stand-in data, below the label-reading window oracle.
+
+Trained on the seen terrains it is a strong version of the semantic classifier's paradigm (dense, not
+patch votes); trained on the unseen terrains (which PACER never sees) it checks that those terrains are
+recognisable at all. Neither is a paper row: ``benchmarks/pacer_recognition_reference.py`` reports them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import torch
+from torch import nn
+from torch.nn import functional as F
+from tqdm.auto import tqdm
+
+from navlab.core.params import Params
+from navlab.core.seeding import torch_generator
+from navlab.maps.dataset import load_maps
+from navlab.pacer.aerial import AerialMap
+from navlab.pacer.bev import fov_mask
+from navlab.pacer.datasets import STREET_SPLIT, PacerDataset, Recipe
+from navlab.pacer.evaluate import stitch_windows
+from navlab.pacer.preferences import IGNORE, rank_costs
+from navlab.pacer.terrain import TerrainBank
+
+Terrains = Literal["seen", "unseen"]
+
+
+@dataclass(frozen=True)
+class SegmenterSettings:
+    """How the reference is trained: ``epochs`` of ``examples_per_epoch`` fresh BEV items (Adam, cosine
+    learning rate from ``lr``), a fraction ``street_windows`` of them cut from SuReNav's training street
+    maps (the evaluation maps' kind of layout) instead of the procedural layouts."""
+
+    epochs: int = 16
+    examples_per_epoch: int = 1024
+    batch_size: int = 32
+    lr: float = 2e-3
+    street_windows: float = 0.5
+    width: int = 32
+
+    def __post_init__(self):
+        if min(self.epochs, self.examples_per_epoch, self.batch_size, self.width) < 1 or self.lr <= 0:
+            raise ValueError(f"SegmenterSettings: epochs, examples_per_epoch, batch_size, width must be >= 1 and "
+                             f"lr > 0; got {self}")
+        if not 0 <= self.street_windows <= 1:
+            raise ValueError(f"SegmenterSettings.street_windows = {self.street_windows}: a fraction in [0, 1]")
+
+
+class TerrainSegmenter(nn.Module):
+    """Image (B,3,S,S) -> (B,K,S,S) logits over ``labels`` (terrain ids): two strided blocks, dilated
+    context at 1/4 resolution (a few patches wide, as texture needs), upsampled and joined with the
+    full-resolution features so that 1-3 px sidewalks keep their own label."""
+
+    def __init__(self, labels: Sequence[int], width: int = 32):
+        super().__init__()
+        self.labels = tuple(int(v) for v in labels)
+        self.width = int(width)
+
+        def block(cin, cout, stride=1, dilation=1):
+            return nn.Sequential(nn.Conv2d(cin, cout, 3, stride, padding=dilation, dilation=dilation, bias=False),
+                                 nn.BatchNorm2d(cout), nn.ReLU(inplace=True))
+
+        w = self.width
+        self.full = nn.Sequential(block(3, w), block(w, w))
+        self.down = nn.Sequential(block(w, 2 * w, stride=2), block(2 * w, 2 * w, stride=2),
+                                  block(2 * w, 2 * w, dilation=2), block(2 * w, 2 * w, dilation=4))
+        self.head = nn.Sequential(block(3 * w, w), nn.Conv2d(w, len(self.labels), 1))
+
+    def forward(self, image: torch.Tensor) -> torch.Tensor:
+        full = self.full(image)
+        coarse = F.interpolate(self.down(full), size=image.shape[-2:], mode="bilinear", align_corners=False)
+        return self.head(torch.cat([full, coarse], dim=1))
+
+
+def segmenter_dataset(params: Params, data_dir, terrains: Terrains, settings: SegmenterSettings,
+                      bank: TerrainBank, split: str = "train") -> PacerDataset:
+    """BEV items on ``terrains`` from PACER's renderer, with their own seed stream (never PACER's items),
+    street windows from SuReNav's training geography only (``STREET_SPLIT``: never the test tiles)."""
+    data = params.pacer.data
+    data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=settings.street_windows))
+    street = load_maps(data_dir, STREET_SPLIT[split]) if settings.street_windows > 0 else ()
+    recipe = Recipe(f"segmenter-{terrains}", f"segmenter-{terrains}", terrains, "realistic")
+    return PacerDataset(bank, data, recipe, split, settings.examples_per_epoch, params.pacer.seed, street_maps=street)
+
+
+def _targets(labels: torch.Tensor, known: Sequence[int]) -> torch.Tensor:
+    """Terrain ids -> class indices; IGNORE (outside the view) and unknown ids -> -100 (ignored)."""
+    lookup = torch.full((max(known) + 2,), -100, dtype=torch.long)
+    lookup[torch.as_tensor(known)] = torch.arange(len(known))
+    labels = labels.clone()
+    labels[(labels == IGNORE) | (labels > max(known))] = max(known) + 1
+    return lookup[labels]
+
+
+def train_segmenter(params: Params, data_dir, terrains: Terrains, bank: TerrainBank,
+                    settings: SegmenterSettings = SegmenterSettings(), *, progress: bool = True) -> TerrainSegmenter:
+    """Fit the segmenter on fresh items every epoch (``set_epoch``), seeded from ``params.pacer.seed``."""
+    seed = params.pacer.seed
+    torch.manual_seed(seed)
+    known = [int(t) for t in bank.ids(terrains)]
+    model = TerrainSegmenter(known, settings.width)
+    optimiser = torch.optim.Adam(model.parameters(), lr=settings.lr)
+    steps = settings.epochs * -(-settings.examples_per_epoch // settings.batch_size)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, steps)
+    dataset = segmenter_dataset(params, data_dir, terrains, settings, bank)
+    gen = torch_generator(seed, "pacer.segmenter.batches", terrains)
+    for epoch in tqdm(range(settings.epochs), desc=f"segmenter ({terrains})", disable=not progress):
+        dataset.set_epoch(epoch)
+        order = torch.randperm(len(dataset), generator=gen).tolist()
+        model.train()
+        for start in range(0, len(order), settings.batch_size):
+            items = [dataset[i] for i in order[start:start + settings.batch_size]]
+            images = torch.stack([it["image"] for it in items])
+            targets = _targets(torch.stack([it["labels"] for it in items]), known)
+            loss = F.cross_entropy(model(images), targets, ignore_index=-100)
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+            schedule.step()
+    return model.eval()
+
+
+@torch.no_grad()
+def pixel_recall(model: TerrainSegmenter, dataset, count: int) -> tuple[float, dict[int, float]]:
+    """(pixel accuracy, recall per terrain id) over the field of view of the first ``count`` items of
+    ``dataset``: how well the terrains of this imagery can be told apart."""
+    model.eval()
+    known = list(model.labels)
+    hits = np.zeros(len(known))
+    totals = np.zeros(len(known))
+    for i in range(min(count, len(dataset))):
+        item = dataset[i]
+        target = _targets(item["labels"][None], known)[0]
+        predicted = model(item["image"][None])[0].argmax(0)
+        valid = target >= 0
+        np.add.at(totals, target[valid].numpy(), 1)
+        np.add.at(hits, target[valid].numpy(), (predicted[valid] == target[valid]).numpy())
+    seen = totals > 0
+    recall = {known[k]: float(hits[k] / totals[k]) for k in np.flatnonzero(seen)}
+    return float(hits.sum() / max(totals.sum(), 1)), recall
+
+
+def expected_rank_costs(probabilities: torch.Tensor, labels: Sequence[int], ordering: np.ndarray) -> torch.Tensor:
+    """(N,H,W) expected cost Σ_l p(l) (rank(l)−1)/(L−1) of (N,K,H,W) label ``probabilities``, the
+    probabilities renormalised over the terrains of ``ordering`` (the map's own: the reference is told
+    which terrains the map has and how the operator ranks them)."""
+    ordering = np.asarray(ordering, dtype=np.int64)
+    missing = sorted(set(ordering.tolist()) - set(labels))
+    if missing:
+        raise ValueError(f"ordering names terrains {missing} the segmenter was not trained on (it knows "
+                         f"{list(labels)}); train it on this terrain group")
+    index = torch.as_tensor([list(labels).index(int(t)) for t in ordering])
+    p = probabilities[:, index]
+    p = p / p.sum(dim=1, keepdim=True).clamp_min(1e-12)
+    return torch.einsum("nkhw,k->nhw", p, torch.as_tensor(rank_costs(ordering)))
+
+
+def segmenter_method(model: TerrainSegmenter, params: Params, *, overlap: int = 2, batch: int = 32):
+    """A ``pacer.experiments.Method``: the map costed window by window as the expected rank cost under the
+    map's true ordering (the context is ignored), stitched as PACER's costmaps are."""
+    data = params.pacer.data
+    mask = fov_mask(data.image_size, data.camera.near_width)
+    weight = torch.as_tensor(mask, dtype=torch.float32)
+    window = mask.shape[0]
+
+    @torch.no_grad()
+    def cost(amap: AerialMap, ordering: np.ndarray, _context, _pairs) -> np.ndarray:
+        image = torch.as_tensor(amap.image, dtype=torch.float32)
+        padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
+
+        def window_costs(corners):
+            windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in corners])
+            return expected_rank_costs(torch.softmax(model(windows), dim=1), model.labels, ordering)
+
+        return stitch_windows(window_costs, tuple(image.shape[1:]), mask, overlap=overlap, batch=batch).numpy()
+
+    return cost

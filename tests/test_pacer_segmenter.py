@@ -1,0 +1,108 @@
+"""The recognition reference (pacer.baselines.segmenter): its cost rule, its plumbing, and that it learns."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from torch.nn import functional as F
+
+from navlab.core.params import load_params
+from navlab.pacer.aerial import AerialMap
+from navlab.pacer.baselines.segmenter import (
+    SegmenterSettings,
+    TerrainSegmenter,
+    _targets,
+    expected_rank_costs,
+    segmenter_method,
+)
+from navlab.pacer.preferences import IGNORE, target_costmap
+
+LABELS = (3, 5, 8, 11)
+
+
+def one_hot(labels: np.ndarray, known=LABELS) -> torch.Tensor:
+    index = torch.as_tensor(np.searchsorted(known, labels))
+    return F.one_hot(index, len(known)).permute(2, 0, 1).float()[None]
+
+
+def test_expected_rank_costs_of_certain_labels_is_the_target_costmap():
+    gen = np.random.default_rng(0)
+    labels = gen.choice([3, 8, 11], size=(9, 7))
+    ordering = np.array([11, 3, 8])
+    costs = expected_rank_costs(one_hot(labels), LABELS, ordering)[0].numpy()
+    np.testing.assert_allclose(costs, target_costmap(labels, ordering), atol=1e-7)
+
+
+def test_expected_rank_costs_renormalise_over_the_maps_terrains():
+    p = torch.tensor([0.5, 0.2, 0.1, 0.2]).reshape(1, 4, 1, 1)  # terrain 5 is not on this map
+    ordering = np.array([3, 8, 11])  # costs 0, 0.5, 1
+    expected = (0.5 * 0 + 0.1 * 0.5 + 0.2 * 1) / 0.8
+    assert expected_rank_costs(p, LABELS, ordering).item() == pytest.approx(expected)
+    with pytest.raises(ValueError, match="not trained on"):
+        expected_rank_costs(p, LABELS, np.array([3, 4]))
+
+
+def test_targets_ignore_outside_the_view_and_unknown_terrains():
+    labels = torch.tensor([[3, 5, IGNORE], [11, 12, 8]])
+    assert _targets(labels, LABELS).tolist() == [[0, 1, -100], [3, -100, 2]]
+
+
+class _ColourReader(torch.nn.Module):
+    """A perfect segmenter of images whose red channel is label/16: certain of the true label."""
+
+    labels = LABELS
+
+    def forward(self, image):
+        index = torch.as_tensor(np.searchsorted(LABELS, (image[:, 0] * 16).round().numpy()))
+        inside = image.abs().sum(1) > 0  # zero outside the field of view: no evidence there
+        return 50.0 * F.one_hot(index.clamp_max(len(LABELS) - 1), len(LABELS)).permute(0, 3, 1, 2).float() * inside[:, None]
+
+
+def test_a_perfect_segmenter_costs_the_map_as_its_ordering_says():
+    params = load_params("smoke")
+    gen = np.random.default_rng(1)
+    size = 2 * params.pacer.data.image_size
+    blocks = gen.choice([3, 8, 11], size=(4, 4))
+    labels = np.kron(blocks, np.ones((size // 4, size // 4), dtype=np.int64))
+    image = np.stack([labels / 16.0, np.full(labels.shape, 0.5), np.full(labels.shape, 0.5)]).astype(np.float32)
+    amap = AerialMap(image, labels, np.unique(labels), (0, 0), (size - 1, size - 1))
+    ordering = np.array([8, 11, 3])
+    costs = segmenter_method(_ColourReader(), params)(amap, ordering, None, None)
+    np.testing.assert_allclose(costs, target_costmap(labels, ordering), atol=1e-5)
+
+
+def test_the_segmenter_learns_two_textures_apart(single_thread):
+    """Stripes against noise, split by a random diagonal: 100 Adam steps must separate them."""
+    torch.manual_seed(0)
+    gen = torch.Generator().manual_seed(0)
+    model = TerrainSegmenter((0, 1), width=8)
+    optimiser = torch.optim.Adam(model.parameters(), lr=5e-3)
+
+    def batch(n):
+        yy, xx = torch.meshgrid(torch.arange(32.0), torch.arange(32.0), indexing="ij")
+        offsets = torch.randint(-10, 10, (n, 1, 1), generator=gen)
+        target = (xx + yy - 32 > offsets).long()
+        stripes = (torch.sin(xx * 1.5) > 0).float().expand(n, 32, 32)
+        noise = torch.rand(n, 32, 32, generator=gen)
+        grey = torch.where(target.bool(), stripes, noise)
+        return grey[:, None].expand(n, 3, 32, 32).contiguous(), target
+
+    for _ in range(100):
+        images, target = batch(8)
+        loss = F.cross_entropy(model(images), target)
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+    model.eval()
+    images, target = batch(16)
+    with torch.no_grad():
+        accuracy = (model(images).argmax(1) == target).float().mean().item()
+    assert accuracy > 0.9
+
+
+def test_settings_reject_nonsense():
+    with pytest.raises(ValueError, match="epochs"):
+        SegmenterSettings(epochs=0)
+    with pytest.raises(ValueError, match="street_windows"):
+        SegmenterSettings(street_windows=1.5)
