@@ -6,12 +6,14 @@ lattice's 16; Table V: ``hj.planning.random_pairs`` with seed hj.seed) it runs D
 A* with TTR on ``navlab.search.state_lattice`` and prints cost, expansions and search seconds, and whether
 both A* costs equal Dijkstra's (|difference| <= 1e-9 s; they must).
 
-TTR admissibility: the goal-frame TTR grid can exceed the continuous optimum by its interpolation error.
-Its largest excess δ over the lattice's exact cost-to-go is measured on the *open* room (the same walls,
-no obstacles) with the task's lattice anchoring and goal (``Lattice.cost_to_go``: backward Dijkstra over
-every lattice state); obstacles only remove primitives, so cost-to-go in the task's room is >= the open
-room's and max(TTR − δ, 0) is admissible in any room. δ and the raw TTR's excess in the task's room
-are printed. Table I also prints the costs of the paper-style continuous lattice (``hj.planning.Planner``,
+TTR admissibility: the goal-frame TTR grid can exceed the lattice's cost-to-go through its interpolation
+error. At the goal states themselves (cost-to-go 0) the search sets every h to 0 (``Lattice.heuristic_table``:
+interpolating across the goal disc's rim gave TTR up to ~2 s there). Elsewhere, its largest excess δ over
+the lattice's exact cost-to-go is measured on the *open* room (the same walls, no obstacles) with the task's
+lattice anchoring and goal (``Lattice.cost_to_go``: backward Dijkstra over every lattice state); obstacles
+only remove primitives, so cost-to-go in the task's room is >= the open room's and max(TTR − δ, 0) is
+admissible in any room. δ and the raw TTR's excess in the task's room are printed (<= 0: admissible).
+Table I also prints the costs of the paper-style continuous lattice (``hj.planning.Planner``,
 A* + OBS, as notebooks/hj/01_heuristics.ipynb) beside.
 
 Usage: python benchmarks/hj_state_lattice.py [--artifacts artifacts] [--pairs N] [--tables 1 2 3 4 5]
@@ -72,9 +74,9 @@ def run_group(setup: Setup, start_xy, goal_xy, starts) -> list[dict]:
     goal = Goal(tuple(map(float, goal_xy)), setup.goal_tolerance, setup.goal_speed)
     ttr = ttr_heuristic(setup.ttr, goal.xy)
     open_lattice = Lattice(setup.settings, setup.open_room, start_xy, setup.primitives)
-    delta = max(open_lattice.excess(ttr, open_lattice.cost_to_go(goal)), 0.0)
+    delta = max(open_lattice.excess(ttr, goal, open_lattice.cost_to_go(goal)), 0.0)
     lattice = Lattice(setup.settings, setup.room, start_xy, setup.primitives)
-    room_excess = lattice.excess(ttr, lattice.cost_to_go(goal))
+    room_excess = lattice.excess(ttr, goal, lattice.cost_to_go(goal))
     heuristics = {"Dijkstra": None, "Dist": dist_heuristic(goal, setup.settings.car.v_max),
                   "TTR": deflated(ttr, delta)}
     rows = []

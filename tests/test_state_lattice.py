@@ -134,7 +134,8 @@ def test_astar_with_admissible_heuristics_returns_the_dijkstra_cost(seed):
     reference = lat.search(state, goal)
     assert reference.found
     to_go = lat.cost_to_go(goal)
-    assert lat.excess(dist, to_go) <= 1e-12  # Dist is admissible on the lattice
+    assert lat.excess(dist, goal, to_go) <= 1e-12  # Dist is admissible on the lattice
+    assert (lat.heuristic_table(dist, goal)[lat.goal_mask(goal)] == 0.0).all()
     assert reference.cost == pytest.approx(to_go[lat.index(state)], abs=1e-9)
     for h in (dist, lambda s: 0.5 * dist(s), lambda s: noise * dist(s)):
         res = lat.search(state, goal, h)

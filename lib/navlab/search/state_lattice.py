@@ -29,7 +29,7 @@ admissible heuristic returns Dijkstra's cost on it (up to floating-point roundin
 - **Search** (``Lattice.search``): compiled A* (re-opening states whose g improves, so an admissible but
   inconsistent heuristic, such as an interpolated TTR grid, still returns the optimum) over lattice
   states with h given as a function of (N, 4) continuous states (x, y, v, θ) in seconds, evaluated once
-  for every lattice state; h = 0 is Dijkstra. The goal: a state within ``tolerance`` of the goal xy at a
+  for every lattice state (and set to 0 on goal states); h = 0 is Dijkstra. The goal: a state within ``tolerance`` of the goal xy at a
   speed <= ``max_speed``, tested when popped. ``Lattice.cost_to_go`` runs Dijkstra backwards from the
   goal set over the whole lattice: the exact cost-to-go, against which a heuristic's admissibility is
   measured (``excess``).
@@ -437,11 +437,20 @@ class Lattice:
         return _clear_batch((self.prims.gap, self.prims.sample_off, self.prims.samples), self.clearance.field,
                             self._frame, np.asarray(cells, np.int64).reshape(-1, 2), np.asarray(ids, np.int64))
 
+    def heuristic_table(self, heuristic: Callable[[np.ndarray], np.ndarray] | None, goal: Goal) -> np.ndarray:
+        """h at every lattice state, 0 on the goal states (their cost-to-go is 0). Why: a grid heuristic
+        interpolated across the goal disc's rim mixes in nodes outside it; the default TTR grid gives up to
+        ~2 s at lattice goal states 0.18 m from the goal (measured, benchmarks/hj_state_lattice.py), which
+        A* would pop late, returning a worse goal."""
+        if heuristic is None:
+            return np.zeros(len(self.states))
+        return np.where(self.goal_mask(goal), 0.0, np.asarray(heuristic(self.states), np.float64))
+
     def search(self, start, goal: Goal, heuristic: Callable[[np.ndarray], np.ndarray] | None = None,
                max_expansions: int = 10 ** 9) -> LatticePlan:
-        """A* from ``start`` (see ``index``) to ``goal`` with ``heuristic`` (None: Dijkstra). The heuristic is
-        evaluated for every lattice state first; ``seconds`` counts only the search."""
-        h = np.zeros(len(self.states)) if heuristic is None else np.asarray(heuristic(self.states), np.float64)
+        """A* from ``start`` (see ``index``) to ``goal`` with ``heuristic`` (None: Dijkstra), evaluated for
+        every lattice state first (``heuristic_table``); ``seconds`` counts only the search."""
+        h = self.heuristic_table(heuristic, goal)
         source = np.array([self.index(start)], np.int64)
         t0 = time.perf_counter()
         g, parent, via, found, expansions = _search(self._prims, self._forward, self.clearance.field, self._frame,
@@ -463,8 +472,8 @@ class Lattice:
                     np.flatnonzero(mask).astype(np.int64), np.zeros(len(mask), np.bool_), True, 10 ** 12)[0]
         return g
 
-    def excess(self, heuristic: Callable[[np.ndarray], np.ndarray], cost_to_go: np.ndarray) -> float:
-        """The largest amount by which ``heuristic`` exceeds the exact cost-to-go over the states that can
-        reach the goal (<= 0: admissible on this lattice)."""
+    def excess(self, heuristic: Callable[[np.ndarray], np.ndarray], goal: Goal, cost_to_go: np.ndarray) -> float:
+        """The largest amount by which ``heuristic`` (as ``search`` uses it: ``heuristic_table``) exceeds the
+        exact cost-to-go over the states that can reach the goal (<= 0: admissible on this lattice)."""
         finite = np.isfinite(cost_to_go)
-        return float((heuristic(self.states[finite]) - cost_to_go[finite]).max())
+        return float((self.heuristic_table(heuristic, goal)[finite] - cost_to_go[finite]).max())
