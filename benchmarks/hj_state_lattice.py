@@ -34,6 +34,7 @@ from navlab.hj.pruners import clearance_field, field_error
 from navlab.maps.rooms import load_room
 from navlab.reach.lookup import TTRLookup
 from navlab.reach.precompute import load_ttr
+from navlab.search.lattice_fields import wrap
 from navlab.search.state_lattice import (
     ANGLES,
     Car,
@@ -45,7 +46,6 @@ from navlab.search.state_lattice import (
     build_primitives,
     deflated,
     dist_heuristic,
-    wrap,
 )
 
 TOLERANCE_S = 1e-9

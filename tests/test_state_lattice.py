@@ -12,6 +12,7 @@ import pytest
 from navlab.core.params import load_params
 from navlab.hj.pruners import clearance_field, field_error
 from navlab.maps.rooms import Disc, Rect, Room
+from navlab.search.lattice_fields import wrap
 from navlab.search.state_lattice import (
     ANGLES,
     D4,
@@ -25,7 +26,6 @@ from navlab.search.state_lattice import (
     dist_heuristic,
     heading_index,
     sample_paths,
-    wrap,
 )
 
 ROBOT = load_params().hj.grids.robot

@@ -47,7 +47,7 @@ import numba
 import numpy as np
 
 from navlab.search.heap import insert_or_decrease, new_indexed, pop_top
-from navlab.search.lattice_fields import GridField, field_meta, interp2
+from navlab.search.lattice_fields import GridField, field_meta, interp2, wrap
 
 # the 16 grid-aligned headings: (1,0), (2,1), (1,1), (1,2) and their rotations by 90°, counter-clockwise
 _QUARTER = np.array([[1, 0], [2, 1], [1, 1], [1, 2]])
@@ -67,10 +67,6 @@ def heading_index(vector) -> int:
     if len(hit) != 1:
         raise ValueError(f"{tuple(vector)} is not one of the lattice's heading directions")
     return int(hit[0])
-
-
-def wrap(angle):
-    return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi
 
 
 @dataclass(frozen=True)
