@@ -47,7 +47,8 @@ import numba
 import numpy as np
 
 from navlab.search.heap import insert_or_decrease, new_indexed, pop_top
-from navlab.search.lattice_fields import GridField, field_meta, interp2, wrap
+from navlab.search.lattice_fields import GridField, _outside_xy, field_meta, interp2, wrap
+from navlab.search.lattice_search import Goal
 
 # the 16 grid-aligned headings: (1,0), (2,1), (1,1), (1,2) and their rotations by 90°, counter-clockwise
 _QUARTER = np.array([[1, 0], [2, 1], [1, 1], [1, 2]])
@@ -268,15 +269,6 @@ class Clearance:
 
 
 @dataclass(frozen=True)
-class Goal:
-    """The A* goal of the paper's tables (hj.planner): within ``tolerance`` of ``xy``, speed <= ``max_speed``."""
-
-    xy: tuple[float, float]
-    tolerance: float
-    max_speed: float
-
-
-@dataclass(frozen=True)
 class LatticePlan:
     found: bool
     cost: float  # s (inf without a plan)
@@ -301,10 +293,9 @@ def deflated(h: Callable[[np.ndarray], np.ndarray], delta: float) -> Callable[[n
 def _clear(fv, m, samples, a, b, x0, y0, threshold):
     """True when every sample row a..b-1 (offsets from (x0, y0)) has interpolated clearance > threshold
     and lies on the raster (off it is outside the room)."""
-    lo, hi = m[1], m[6]
     for q in range(a, b):
         x, y = x0 + samples[q, 0], y0 + samples[q, 1]
-        if x < lo[0] or y < lo[1] or x > hi[0] or y > hi[1] or interp2(fv, m, x, y) <= threshold:
+        if _outside_xy(m, x, y) or interp2(fv, m, x, y) <= threshold:
             return False
     return True
 
