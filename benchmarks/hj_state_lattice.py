@@ -6,13 +6,9 @@ lattice's 16; Table V: ``hj.planning.random_pairs`` with seed hj.seed) it runs D
 A* with TTR on ``navlab.search.state_lattice`` and prints cost, expansions and search seconds, and whether
 both A* costs equal Dijkstra's (|difference| <= 1e-9 s; they must).
 
-TTR admissibility: the goal-frame TTR grid can exceed the lattice's cost-to-go through its interpolation
-error. At the goal states themselves (cost-to-go 0) the search sets every h to 0 (``Lattice.heuristic_table``:
-interpolating across the goal disc's rim gave TTR up to ~2 s there). Elsewhere, its largest excess δ over
-the lattice's exact cost-to-go is measured on the *open* room (the same walls, no obstacles) with the task's
-lattice anchoring and goal (``Lattice.cost_to_go``: backward Dijkstra over every lattice state); obstacles
-only remove primitives, so cost-to-go in the task's room is >= the open room's and max(TTR − δ, 0) is
-admissible in any room. δ and the raw TTR's excess in the task's room are printed (<= 0: admissible).
+TTR admissibility (the TTR grid deflated by δ, h = 0 on goal states): ``navlab.hj.state_lattice_runs``, which
+runs the searches (shared with notebooks/hj/01_heuristics.ipynb's Table I rows); δ and the raw TTR's excess in
+the task's room are printed (<= 0: admissible).
 Table I also prints the costs of the paper-style continuous lattice (``hj.planning.Planner``,
 A* + OBS, as notebooks/hj/01_heuristics.ipynb) beside.
 
@@ -23,70 +19,23 @@ from __future__ import annotations
 
 import argparse
 import math
-from dataclasses import dataclass
-
-import numpy as np
 
 from navlab.core.params import load_params
-from navlab.hj.guidance import ttr_heuristic
 from navlab.hj.planning import Planner, heading_tasks, random_pairs
-from navlab.hj.pruners import clearance_field, field_error
-from navlab.maps.rooms import load_room
-from navlab.reach.lookup import TTRLookup
-from navlab.reach.precompute import load_ttr
-from navlab.search.lattice_fields import wrap
-from navlab.search.state_lattice import (
-    ANGLES,
-    Car,
-    Clearance,
-    Goal,
-    Lattice,
-    LatticeSettings,
-    Primitives,
-    build_primitives,
-    deflated,
-    dist_heuristic,
+from navlab.hj.state_lattice_runs import (
+    DIJKSTRA,
+    DIST,
+    METHODS,
+    TTR,
+    make_setup,
+    run_group,
+    run_table,
+    same_cost,
+    settings_of,
 )
-
-TOLERANCE_S = 1e-9
-
-
-@dataclass(frozen=True)
-class Setup:
-    """What every task shares: settings, primitives, the rooms' clearances, the TTR look-up, the goal."""
-
-    settings: LatticeSettings
-    primitives: Primitives
-    room: Clearance
-    open_room: Clearance
-    ttr: TTRLookup
-    goal_tolerance: float
-    goal_speed: float
-
-
-def clearance(name: str, radius: float) -> Clearance:
-    field = clearance_field(load_room(name))
-    return Clearance(field, field_error(field), radius)
-
-
-def run_group(setup: Setup, start_xy, goal_xy, starts) -> list[dict]:
-    """One start position and goal with several start states: δ from the open room, then the searches."""
-    goal = Goal(tuple(map(float, goal_xy)), setup.goal_tolerance, setup.goal_speed)
-    ttr = ttr_heuristic(setup.ttr, goal.xy)
-    open_lattice = Lattice(setup.settings, setup.open_room, start_xy, setup.primitives)
-    delta = max(open_lattice.excess(ttr, goal, open_lattice.cost_to_go(goal)), 0.0)
-    lattice = Lattice(setup.settings, setup.room, start_xy, setup.primitives)
-    room_excess = lattice.excess(ttr, goal, lattice.cost_to_go(goal))
-    heuristics = {"Dijkstra": None, "Dist": dist_heuristic(goal, setup.settings.car.v_max),
-                  "TTR": deflated(ttr, delta)}
-    rows = []
-    for start in starts:
-        row = {"start": start, "goal": goal.xy, "delta": delta, "room_excess": room_excess,
-               "heading": math.degrees(ANGLES[int(np.argmin(np.abs(wrap(ANGLES - start[3]))))])}
-        for name, h in heuristics.items():
-            row[name] = lattice.search(start, goal, h)
-        rows.append(row)
-    return rows
+from navlab.maps.rooms import load_room
+from navlab.reach.precompute import load_ttr
+from navlab.search.state_lattice import build_primitives
 
 
 def continuous_costs(params, artifacts: str, table) -> list[tuple[float, float]]:
@@ -96,19 +45,18 @@ def continuous_costs(params, artifacts: str, table) -> list[tuple[float, float]]
             for s in heading_tasks(table.start_xy, table.headings_deg)]
 
 
-def print_rows(title: str, rows: list[dict], continuous=None) -> bool:
+def print_rows(title: str, runs: dict[str, list], continuous=None) -> bool:
     print(f"\n{title}")
     print("start (x, y, θ deg -> lattice θ)    | Dijkstra cost exp s   | A*+Dist cost exp s    | A*+TTR cost exp s     "
           "| equal | TTR δ open / excess room" + (" | continuous Dist / TTR" if continuous else ""))
     ok = True
-    for n, row in enumerate(rows):
-        d, a, t = row["Dijkstra"], row["Dist"], row["TTR"]
-        equal = all(r.found == d.found and (not d.found or abs(r.cost - d.cost) <= TOLERANCE_S) for r in (a, t))
+    for n, (d, a, t) in enumerate(zip(runs[DIJKSTRA], runs[DIST], runs[TTR], strict=True)):
+        equal = same_cost(d, a) and same_cost(d, t)
         ok &= equal
-        s = row["start"]
-        line = (f"({s[0]:.2f}, {s[1]:.2f}, {math.degrees(s[3]):6.1f} -> {row['heading']:6.1f}) | "
+        s = d.start
+        line = (f"({s[0]:.2f}, {s[1]:.2f}, {math.degrees(s[3]):6.1f} -> {d.heading_deg:6.1f}) | "
                 + " | ".join(f"{r.cost:7.3f} {r.expansions:6d} {r.seconds:5.2f}" for r in (d, a, t))
-                + f" | {'yes' if equal else 'NO'}   | {row['delta']:.1e} / {row['room_excess']:+.1e}")
+                + f" | {'yes' if equal else 'NO'}   | {d.delta:.1e} / {d.room_excess:+.1e}")
         if continuous:
             line += f" | {continuous[n][0]:.3f} / {continuous[n][1]:.3f}"
         print(line)
@@ -122,8 +70,8 @@ def main() -> None:
     parser.add_argument("--tables", type=int, nargs="*", default=[1, 2, 3, 4, 5])
     args = parser.parse_args()
     params = load_params()
-    p, robot = params.hj.planner, params.hj.grids.robot
-    settings = LatticeSettings(Car.from_params(params))
+    p = params.hj.planner
+    settings = settings_of(params)
     primitives = build_primitives(settings)
     print(f"state lattice: cell {settings.cell_m} m, 16 headings, speeds {settings.speeds}, "
           f"{len(primitives.cost)} primitives ({len(primitives.cost) // (16 * len(settings.speeds))} or fewer "
@@ -132,19 +80,20 @@ def main() -> None:
     ok = True
     for n in args.tables:
         table = getattr(p, f"table{n}")
-        setup = Setup(settings, primitives, clearance(table.room, robot.radius_m), clearance("open", robot.radius_m),
-                      ttr, p.goal_tolerance_astar_m, p.goal_max_speed)
         if n == 5:
-            pairs = random_pairs(load_room(table.room), robot.radius_m, args.pairs or table.pairs,
+            setup = make_setup(params, table.room, ttr, primitives)
+            pairs = random_pairs(load_room(table.room), params.hj.grids.robot.radius_m, args.pairs or table.pairs,
                                  table.min_distance_m, params.hj.seed)
-            rows = [row for start, goal in pairs for row in run_group(setup, start[:2], goal, [start])]
-            ok &= print_rows(f"Table V ({table.room}, {len(pairs)} random pairs)", rows)
+            runs = {m: [] for m in METHODS}
+            for start, goal in pairs:
+                for m, group in run_group(setup, start[:2], goal, [start]).items():
+                    runs[m] += group
+            ok &= print_rows(f"Table V ({table.room}, {len(pairs)} random pairs)", runs)
             continue
-        starts = heading_tasks(table.start_xy, table.headings_deg)
-        rows = run_group(setup, table.start_xy, table.goal_xy, starts)
+        runs = run_table(params, args.artifacts, table, ttr, primitives).results
         continuous = continuous_costs(params, args.artifacts, table) if n == 1 else None
         ok &= print_rows(f"Table {['I', 'II', 'III', 'IV'][n - 1]} ({table.room}, start {tuple(table.start_xy)}, "
-                         f"goal {tuple(table.goal_xy)})", rows, continuous)
+                         f"goal {tuple(table.goal_xy)})", runs, continuous)
     print(f"\nA*+Dist and A*+TTR return Dijkstra's cost on every task: {'yes' if ok else 'NO'}")
     if not ok:
         raise SystemExit(1)

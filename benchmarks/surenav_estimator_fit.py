@@ -31,6 +31,7 @@ from torch_geometric.data import Batch
 from navlab.core.labels import NUM_LABELS
 from navlab.core.params import load_params, repo_root
 from navlab.core.seeding import rng
+from navlab.core.training import descend
 from navlab.surenav.context.features import CONTEXT_FEATURES, FEATURE_SETS, ContextEstimator
 from navlab.surenav.context.personas import mean_persona
 from navlab.surenav.context.regions import RegionContext
@@ -95,9 +96,7 @@ def main() -> None:
                                                     torch.log1p(rule_psi(batch.x, batch.soft)[soft]))
             else:
                 loss = training_loss(*plan_batch(model, chunk, train.temperature), train)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
+            descend(loss, optimiser)
             losses.append(float(loss.detach()))
         val = evaluate(model, samples["val"], train)[1]
         fit = evaluate(model, samples["train"][::TRAIN_IOU_STRIDE], train)[1]

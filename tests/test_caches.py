@@ -74,8 +74,8 @@ def test_fingerprint_changes_with_the_source_it_runs_and_only_that(tmp_path):
 def test_a_new_field_in_one_params_section_leaves_other_results_current(tmp_path):
     """The section declarations compute nothing (results key on the values they read): a PACER field must
     not re-solve the HJ grids; an edit of the loader (profile resolution) still does."""
-    field = copy_lib(tmp_path / "field", "navlab/core/params/pacer.py", "@dataclass",
-                     "# a new field\n@dataclass")
+    field = copy_lib(tmp_path / "field", "navlab/core/params/pacer.py", "@section",
+                     "# a new field\n@section")
     assert code_fingerprint("navlab.reach.precompute", lib=field) == code_fingerprint("navlab.reach.precompute")
     loader = copy_lib(tmp_path / "loader", "navlab/core/params/__init__.py", "tree.get(profile, tree[\"default\"])",
                       "tree.get(profile) or tree[\"default\"]")

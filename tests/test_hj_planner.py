@@ -347,3 +347,59 @@ def test_anytime_budget_states_expansions_and_this_machines_milliseconds():
     line = anytime_budget({"a": [run(30_000, 0.2)], "b": [run(70_000, 0.3)]}, 200_000)
     assert "at most 200,000 expansions" in line and "200,000 expansions per wall second" in line
     assert "about 1,000 ms" in line
+
+
+def _outcome(result):
+    """Everything a search decides, without its wall time."""
+    return (result.status, result.cost, result.expansions, result.heuristic_evals, result.pruner_evals,
+            result.controls.tolist(), result.solution_expansions, result.solution_costs, result.solution_bounds)
+
+
+@pytest.mark.parametrize("anytime", [False, True])
+def test_a_resumed_search_is_the_search_given_the_whole_budget_at_once(anytime):
+    """A car at rest resumes its search each re-plan period (hj.lattice_policy): stopping at a limit and going
+    on, in chunks of any size, must give exactly the one search with the summed budget (OPEN untouched at the
+    stop), over random rooms, starts and goals, for A* and ANA*."""
+    from navlab.search.lattice_search import resume
+
+    rng = np.random.default_rng(11)
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    compared = 0
+    for _ in range(12):
+        discs = tuple(Disc(*rng.uniform((0.6, 0.3), (2.4, 1.7)), rng.uniform(0.1, 0.3)) for _ in range(3))
+        room = Room("random", 3.0, 2.0, obstacles=discs)
+        obs = obs_pruner(room, RADIUS)
+        start = np.array([0.3, rng.uniform(0.3, 1.7), 0.0, rng.uniform(-math.pi, math.pi)])
+        goal = Goal((2.7, float(rng.uniform(0.3, 1.7))), 0.3, 0.25)
+        if obs.values(start[None])[0] <= 0 or obs.goal_clearance(goal) <= 0:
+            continue
+        h = dist_heuristic(goal.xy, spec.v_max, goal.tolerance)
+        whole = search(spec, room.bounds, start, goal, h, pruners=Pruners(static=obs),
+                       budget=Budget(anytime=anytime, max_expansions=400))
+        chunks = np.sort(rng.choice(np.arange(1, 400), size=int(rng.integers(1, 5)), replace=False))
+        part = search(spec, room.bounds, start, goal, h, pruners=Pruners(static=obs),
+                      budget=Budget(anytime=anytime, max_expansions=int(chunks[0])), keep_frontier=True)
+        for total in (*chunks[1:], 400):
+            if part.frontier is None:  # finished before the chunk's end: so must the whole search
+                break
+            part = resume(part.frontier, int(total))
+        assert _outcome(part) == _outcome(whole)
+        compared += 1
+    assert compared >= 8
+
+
+def test_a_frontier_goes_on_once_and_takes_a_total_budget():
+    from navlab.search.lattice_search import resume
+
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    h = dist_heuristic(GOAL.xy, spec.v_max, GOAL.tolerance)
+    first = search(spec, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, h, budget=Budget(max_expansions=3),
+                   keep_frontier=True)
+    assert first.status == "expansion limit" and first.frontier.expansions == 3
+    frontier = first.frontier
+    with pytest.raises(ValueError, match="below the 3 expansions"):
+        resume(frontier, 2)
+    assert resume(frontier, 10**6).found
+    with pytest.raises(ValueError, match="resumed already"):
+        resume(frontier, 10**6)
+    assert search(spec, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, h, budget=Budget(max_expansions=3)).frontier is None

@@ -28,6 +28,15 @@ def built(tmp_path_factory, smoke_params):
     return out
 
 
+def test_a_rebuild_from_scratch_gives_the_same_bytes(built, smoke_params, tmp_path):
+    """DVC hashes the artefact: wall-clock or other run-to-run state in it would make every HJ stage stale
+    after any rebuild (a sidecar recorded the solve time until 2026-11-26)."""
+    build_hj_grids(smoke_params, "unused", tmp_path, progress=False, log=lambda m: None)
+    first = {p.name: p.read_bytes() for p in sorted((built / "hj").iterdir())}
+    again = {p.name: p.read_bytes() for p in sorted((tmp_path / "hj").iterdir())}
+    assert first.keys() == again.keys() and all(first[k] == again[k] for k in first)
+
+
 def _with(params, **solver):
     g = params.hj.grids
     grids = dataclasses.replace(g, solver=dataclasses.replace(g.solver, **solver))

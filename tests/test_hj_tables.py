@@ -8,6 +8,15 @@ import pytest
 
 from navlab.hj.paper import PAPER
 from navlab.hj.planning import TaskResult
+from navlab.hj.state_lattice_runs import (
+    DIJKSTRA,
+    DIST,
+    METHODS,
+    TTR,
+    LatticeRun,
+    StateLatticeRuns,
+    settings_of,
+)
 from navlab.hj.tables import PAPER_CALLS, table1, table2, table5, table6, table7
 from navlab.metrics.tables import Claim
 
@@ -23,15 +32,66 @@ RESULTS = {"A* w/ Dist": [task(0.1, 5.0), task(-0.2, 6.0), task(-math.inf, math.
            "A* w/ TTR": [task(0.1, 5.0, seconds=0.2), task(0.2, 5.5, seconds=0.3), task(0.05, 4.0, seconds=0.4)]}
 
 
-def test_table1_states_its_claims_failures_and_the_ttr_excess():
-    table = table1(RESULTS, EXCESS, seed=0)
+def lattice_run(cost, expansions, found=True):
+    return LatticeRun((1.0, 1.0, 0.0, 0.0), 0.0, (4.0, 1.0), found, cost if found else math.inf, expansions, 0.01,
+                      0.0, 0.0)
+
+
+def lattice_runs(smoke_params, dist_costs=(4.0, 5.0, 6.0), ttr_costs=(4.0, 5.0, 6.0)) -> StateLatticeRuns:
+    """Synthetic state-lattice runs of three tasks: Dijkstra's costs 4, 5, 6 s; A*'s as given (inf: no plan)."""
+    results = {DIJKSTRA: [lattice_run(c, 9000) for c in (4.0, 5.0, 6.0)],
+               DIST: [lattice_run(c, 2000, math.isfinite(c)) for c in dist_costs],
+               TTR: [lattice_run(c, 800, math.isfinite(c)) for c in ttr_costs]}
+    return StateLatticeRuns(settings_of(smoke_params), 1952, results)
+
+
+def test_table1_states_its_claims_failures_and_the_ttr_excess(smoke_params):
+    table = table1(RESULTS, EXCESS, seed=0, lattice=lattice_runs(smoke_params))
     assert (table.table_id, table.paper_ref) == ("table1_heuristics_astar", "HJ-search Table I")
-    assert [r["method"] for r in table.rows] == list(RESULTS)
+    assert [r["method"] for r in table.rows] == [*RESULTS, *METHODS]
     assert table.rows[1]["time_s"] == pytest.approx(0.9)  # the method's total search seconds
     assert Claim("no plan fails the dense check", "does not hold", "A* w/ Dist 1, A* w/ TTR 0") in table.claims
     assert all(str(c) in table.notes for c in table.claims)
     assert "at these 3 starts: above it at 1, by at most 0.250 s" in table.notes
     assert "1 without a plan, 1 failing the dense check" in table.notes
+    assert "cell 0.1 m, 16 grid-aligned headings" in table.notes and "1952 motion primitives" in table.notes
+    expansions = table.claims[0]
+    assert expansions.claim == "TTR cuts A* expansions" and expansions.verdict == "does not hold"  # continuous rows
+    assert "state lattice: A* w/ TTR 800 vs A* w/ Dist 2000 vs Dijkstra 9000 mean expansions" in expansions.ours
+
+
+def test_table1_same_cost_holds_when_both_astar_return_dijkstras_cost_on_every_task(smoke_params):
+    # the continuous rows differ (5.00 vs 4.83 mean): the claim is decided on the state lattice alone
+    lattice = lattice_runs(smoke_params, dist_costs=(4.0, 5.0 + 1e-12, 6.0))
+    (same,) = [c for c in table1(RESULTS, EXCESS, seed=0, lattice=lattice).claims if c.claim == "same optimal cost"]
+    assert same.verdict == "holds" and not same.why
+    assert "on 3/3 and 3/3 tasks; Dijkstra's costs 4.000, 5.000, 6.000 s, mean 5.000 s" in same.ours
+    assert "continuous lattice: A* w/ TTR 4.833 vs A* w/ Dist 5.000 s mean; they differ" in same.ours
+    assert "duplicate detection" in same.ours
+
+
+def test_table1_same_cost_does_not_hold_when_one_task_differs(smoke_params):
+    for lattice in (lattice_runs(smoke_params, ttr_costs=(4.0, 5.0 + 1e-6, 6.0)),
+                    lattice_runs(smoke_params, dist_costs=(4.0, 5.0, math.inf))):
+        table = table1(RESULTS, EXCESS, seed=0, lattice=lattice)
+        (same,) = [c for c in table.claims if c.claim == "same optimal cost"]
+        assert same.verdict == "does not hold" and "differs from Dijkstra on 1 of 3 task(s)" in same.why
+        assert str(same) in table.notes
+
+
+def test_table1_tasks_on_the_state_lattice(smoke_params, tmp_path):
+    """Table I's smoke task set: every method plans, and both A* return Dijkstra's cost on every task."""
+    from navlab.hj.state_lattice_runs import run_table, same_cost
+    from navlab.reach.precompute import build_hj_grids
+
+    build_hj_grids(smoke_params, "unused", tmp_path, progress=False, log=lambda m: None)
+    runs = run_table(smoke_params, tmp_path, smoke_params.hj.planner.table1)
+    tasks = len(smoke_params.hj.planner.table1.headings_deg)
+    assert list(runs.results) == list(METHODS) and all(len(r) == tasks for r in runs.results.values())
+    assert all(r.found for rs in runs.results.values() for r in rs)
+    for method in (DIST, TTR):
+        assert all(same_cost(d, r) for d, r in zip(runs.results[DIJKSTRA], runs.results[method], strict=True))
+        assert sum(r.expansions for r in runs.results[method]) < sum(r.expansions for r in runs.results[DIJKSTRA])
 
 
 def test_table2_names_the_anytime_budget_in_expansions():

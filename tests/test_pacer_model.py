@@ -17,7 +17,6 @@ from navlab.pacer.loss import masked_bce
 from navlab.pacer.model import build_model
 from navlab.pacer.train import (
     PhaseRun,
-    cosine_lr,
     epoch_draws,
     load_model,
     resolve_device,
@@ -152,13 +151,6 @@ def test_early_stopping_keeps_the_best_validation_checkpoint(smoke, tmp_path):
     half = np.mean(np.concatenate(pixels) == 0.5)
     assert summary["entropy_floor"] == pytest.approx(half * np.log(2), rel=1e-6)
     assert summary["best_val_loss"] >= summary["entropy_floor"]
-
-
-def test_cosine_learning_rate_decays_to_the_final_fraction():
-    assert cosine_lr(0, 100, 0.01, 0.1) == pytest.approx(0.01)
-    assert cosine_lr(50, 100, 0.01, 0.1) == pytest.approx(0.01 * (0.1 + 0.9 * 0.5))
-    assert cosine_lr(100, 100, 0.01, 0.1) == pytest.approx(0.001)
-    assert all(np.diff([cosine_lr(k, 100, 0.01, 0.0) for k in range(101)]) <= 0)
 
 
 def test_asking_for_cuda_without_a_gpu_is_one_clear_error(monkeypatch):

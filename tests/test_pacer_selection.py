@@ -101,13 +101,19 @@ def test_map_windows_come_from_training_geography_and_are_deterministic(smoke_pa
 
 
 def test_improves_selects_on_the_score_with_the_loss_breaking_ties():
-    best = {"epoch": 1, "val_loss": 0.5, "score": 0.7, "weights": {}}
-    assert improves("map_windows", 0.8, 0.9, best) and not improves("map_windows", 0.6, 0.1, best)
-    assert improves("map_windows", 0.7, 0.4, best) and not improves("map_windows", 0.7, 0.6, best)
-    assert improves("val_loss", 0.1, 0.4, best) and not improves("val_loss", 0.99, 0.6, best)
-    assert not improves("map_windows", float("nan"), 0.1, best)
+    best = {"epoch": 1, "val_loss": 0.5, "select_score": 0.7}
+
+    def row(score, val):
+        return {"epoch": 2, "val_loss": val, "select_score": score}
+
+    assert improves("map_windows", row(0.8, 0.9), best) and not improves("map_windows", row(0.6, 0.1), best)
+    assert improves("map_windows", row(0.7, 0.4), best) and not improves("map_windows", row(0.7, 0.6), best)
+    assert improves("val_loss", row(0.1, 0.4), best) and not improves("val_loss", row(0.99, 0.6), best)
+    assert not improves("map_windows", row(float("nan"), 0.1), best)
+    nan_best = {**best, "select_score": float("nan")}  # no window showed two terrains: the loss decides
+    assert improves("map_windows", row(float("nan"), 0.4), nan_best) and improves("map_windows", row(0.1, 0.9), nan_best)
     with pytest.raises(ValueError, match="select_on = 'loss'.*map_windows, val_loss"):
-        improves("loss", 0.5, 0.5, best)
+        improves("loss", row(0.5, 0.5), best)
 
 
 def _tiny_windows(count: int) -> list[MapWindow]:

@@ -213,18 +213,37 @@ def test_without_a_plan_the_car_evades_only_where_braking_would_enter_the_human_
 
 
 def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
-    """The Dense Room's return trip from rest needs ~30,000-55,000 expansions for a first plan: with a budget
-    of 20,000 per period and ``rest_periods`` 4 the second and third periods continue the first's search."""
+    """The Dense Room's return trip from rest needs ~30,000-55,000 expansions for a first plan. With a budget
+    of 20,000 per period and no humans in view, each period resumes the search where the last stopped, however
+    small ``rest_periods`` (it caps only re-runs while humans move): the plan that comes is the one a single
+    search given the periods' summed budget finds, and no period spends more than its own budget."""
     room = load_room("dense_room")
+    at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
     policy = loop.policy(room, "Dist", "OBS")
-    policy.max_expansions, policy.rest_periods = 20000, 4
-    at_b = np.array([6.6, 2.8, 0.0, math.pi])
-    plans = [policy(Observation(k / 12, at_b, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
+    policy.max_expansions, policy.rest_periods = 20000, 1
+    plans = [policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
     found = [p is not None and len(p) > 0 for p in plans]
     assert not found[0] and any(found), "a plan needs more than one period's budget and comes within four"
-    fresh = dataclasses.replace(policy, rest_periods=1)  # without: every period starts afresh and finds nothing
-    assert not any(len(fresh(Observation(k / 12, at_b, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2)))))
-                   for k in range(4))
+    periods = found.index(True) + 1
+    assert max(policy.expansions) <= 20000 and sum(policy.expansions) > 20000 * (periods - 1)
+    once = dataclasses.replace(policy, max_expansions=20000 * periods, expansions=[])
+    assert np.array_equal(once(Observation(0.0, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))), plans[periods - 1])
+
+
+def test_with_humans_in_view_a_search_from_rest_is_rerun_for_rest_periods(loop):
+    """A human in view (here far off, in the corner behind the car) makes the world the search pruned change between
+    periods: the search is re-run with the budget spent so far plus one period's, for up to ``rest_periods``
+    periods; with ``rest_periods`` 1 every period starts afresh and none finds the plan."""
+    room = load_room("dense_room")
+    at_b, goal, far = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"], np.array([[9.2, 0.3]])
+
+    def plans(rest_periods):
+        policy = loop.policy(room, "Dist", "OBS", "obs")
+        policy.max_expansions, policy.rest_periods = 20000, rest_periods
+        return [policy(Observation(k / 12, at_b, goal, far, np.zeros((1, 2)))) for k in range(4)]
+
+    assert any(p is not None and len(p) > 0 for p in plans(4))
+    assert not any(p is not None and len(p) > 0 for p in plans(1))
 
 
 def test_cyclic_goals_return_to_the_start():

@@ -57,13 +57,18 @@ while a plan that keeps the BRT value at least where it is may be (restricting t
 TTR + BRT hit a wall on the Dense Room's return trip, measured).
 
 A robot *at rest* that has no plan waits for one: when a search from rest stops at the expansion limit
-without a plan, the next re-plan (still at rest, same goal) continues it, with the expansions already
-spent plus one more period's budget, for up to ``rest_periods`` periods (then it starts afresh). This is
-the anytime search running on while the car stands still, instead of being thrown away every 83 ms: in
-the Dense Room the first plan from rest needs up to ~55,000 expansions (the obstacle-free TTR/Dist
-heuristics fill the dead-end pocket between the walls first), ~7 periods' budget. The continued search is
-re-run from the newly observed (noisy) pose, which differs from the first only by the pose noise; its
-measured wall time is therefore that of the whole search so far, not of one period's share.
+without a plan, the next re-plan (still at rest, same goal) goes on with it, one more period's budget at a
+time. With no humans in view nothing the search pruned can change, so it is *resumed* where it stopped
+(``lattice_search.resume``: OPEN and every node kept, the same result as one search given the summed
+budget), for as long as the car waits (the trip's deadlock timer ends a wait that never ends): in the
+Dense Room the first plan from rest needs up to ~55,000 expansions with TTR (the obstacle-free TTR/Dist
+heuristics fill the dead-end pocket between the walls first), ~7 periods' budget, and Dist + BRT's return
+trip needed more than the 12 periods (72,000 expansions) the earlier rule allowed before it started afresh,
+so that car never left (7 of 24 trips deadlocked at rest, measured). While humans move their predictions
+change, so the search is re-run from the newly observed pose with the expansions spent plus one more
+period's budget, for up to ``rest_periods`` periods (then afresh); its measured wall time is that of the
+whole re-run. A resumed search plans from the pose first observed at rest, which differs from the car's
+only by the pose noise, as every plan's start does.
 """
 
 from __future__ import annotations
@@ -82,11 +87,14 @@ from navlab.search.lattice_search import (
     NO_HUMAN,
     NO_STATIC,
     Budget,
+    Frontier,
     Goal,
     Heuristic,
     Pruners,
+    SearchResult,
     StaticPruner,
     require_finite,
+    resume,
     search,
 )
 from navlab.sim.receding_horizon import Evasion
@@ -120,7 +128,7 @@ class LatticePolicy:
     human_radius: float = 0.3
     fi: FIParams = field(default_factory=FIParams)
     anytime: bool = False
-    rest_periods: int = 1  # a search from rest may continue over this many re-plan periods (1: never)
+    rest_periods: int = 1  # with humans in view, a search from rest is re-run over this many periods (1: never)
     reuse: bool = False  # keep the current plan when a re-plan runs out of budget and the plan re-checks safe
     robot_radius: float = 0.285  # m, the kept plan's collision re-check (the QBot's 570 mm base)
     human_prediction_s: float = 0.0  # "fi"/"fs": humans predicted along their observed velocity this far (0: frozen)
@@ -132,7 +140,7 @@ class LatticePolicy:
     _heuristics: dict = field(init=False, repr=False, default_factory=dict)
     _clearance: GridField | None = field(init=False, repr=False, default=None)
     _points: tuple[np.ndarray, np.ndarray] | None = field(init=False, repr=False, default=None)
-    _carried: tuple[tuple, int] | None = field(init=False, repr=False, default=None)  # (goal, expansions spent)
+    _carried: tuple[tuple, int, Frontier | None] | None = field(init=False, repr=False, default=None)  # goal, spent, search
     _current: tuple[tuple, float, np.ndarray] | None = field(init=False, repr=False, default=None)  # goal, t, plan
 
     def __post_init__(self):
@@ -194,17 +202,10 @@ class LatticePolicy:
         velocities = np.asarray(observation.human_velocities, dtype=float).reshape(-1, 2)
         if self.human_mode in ("fi", "fs") and len(humans):
             human = human_pruner(self.human_brt, humans, self.human_mode, self.fi, velocities, self.human_prediction_s)
-        at_rest = state[2] == 0.0
-        spent = self._carried[1] if at_rest and self._carried is not None and self._carried[0] == goal else 0
-        budget = spent + self.max_expansions
-        result = search(self.spec, self.room.bounds, state,
-                        Goal(goal, self.goal_tolerance, self.goal_max_speed), self._heuristics[goal],
-                        pruners=Pruners(static=static, collision=self._collision(static), human=human),
-                        table=self._table, budget=Budget(anytime=self.anytime, max_expansions=budget))
+        waiting = state[2] == 0.0 and not 0.0 < self._remaining_s(observation) < np.inf  # at rest, no plan in force
+        result, spent = self._plan(state, goal, Pruners(static=static, collision=self._collision(static), human=human),
+                                   moving=self.human_mode != "none" and len(humans) > 0, waiting=waiting)
         self.expansions.append(result.expansions - spent)  # this period's share
-        go_on = (at_rest and not result.found and result.status == "expansion limit"
-                 and budget < self.rest_periods * self.max_expansions)
-        self._carried = (goal, budget) if go_on else None
         if result.found:
             if (self.reuse and self._remaining_s(observation) <= result.cost + self.switch_gain_s
                     and self._still_safe(observation, static, human)):
@@ -221,6 +222,31 @@ class LatticePolicy:
             return None  # nothing stops clear: the plan in force, checked clear where it was issued, is the least bad
         self._current = None
         return np.zeros((0, 2)) if stop is None else stop
+
+    def _plan(self, state: np.ndarray, goal: tuple, pruners: Pruners, *, moving: bool,
+              waiting: bool) -> tuple[SearchResult, int]:
+        """This period's search and the expansions spent on it before this period. A car ``waiting`` (at rest
+        with no plan in force) for a plan to the same goal goes on with its search: resumed where it stopped
+        in a static world (no humans in view: nothing it pruned has changed, and the car has not moved),
+        re-run with one more period's budget while humans move (for up to ``rest_periods`` periods), since
+        their predictions changed. A car at rest that follows a plan (turning on the spot) searches afresh
+        from where it now is: a search begun at an earlier heading would plan from a pose it has left
+        (resumed there, the Dense Room's car dithered between plans from stale headings, measured)."""
+        carried = self._carried if waiting and self._carried is not None and self._carried[0] == goal else None
+        self._carried = None
+        if carried is not None and carried[2] is not None and not moving:
+            spent = carried[2].expansions
+            result = resume(carried[2], spent + self.max_expansions)
+        else:
+            spent = carried[1] if carried is not None else 0
+            result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
+                            self._heuristics[goal], pruners=pruners, table=self._table,
+                            budget=Budget(anytime=self.anytime, max_expansions=spent + self.max_expansions),
+                            keep_frontier=waiting and not moving)
+        if waiting and not result.found and result.status == "expansion limit" and (
+                not moving or result.expansions < self.rest_periods * self.max_expansions):
+            self._carried = (goal, result.expansions, result.frontier)
+        return result, spent
 
     def _collision(self, static: StaticPruner) -> StaticPruner:
         """The search's swept collision check: an OBS static pruner is one; a BRT one gets ``_obs``."""

@@ -85,7 +85,8 @@ class ClosedLoop:
                 f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
         return (f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
-                f"for up to {c.rest_periods} period(s) while it waits; without a plan the car brakes straight where "
+                f"while it waits (resumed with no humans in view; re-run for up to {c.rest_periods} period(s) while "
+                f"humans move); without a plan the car brakes straight where "
                 f"that stops clear of the walls, else swerves (the one step after which braking does), else keeps the "
                 f"plan in force; a start inside the static BRT's margin but clear "
                 f"of obstacles is planned from with the pruning threshold at its own value. Plans start from the "

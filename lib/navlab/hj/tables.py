@@ -8,6 +8,7 @@ are decided in this module.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 from navlab.core.params.hj import PlannerParams
 from navlab.core.params.hj_dynamic import DynamicParams
@@ -31,7 +32,8 @@ from navlab.hj.sensitivity import (
     loop_claims,
     loop_rows,
 )
-from navlab.metrics.tables import Table
+from navlab.hj.state_lattice_runs import DIJKSTRA, DIST, TOLERANCE_S, TTR, StateLatticeRuns, same_cost
+from navlab.metrics.tables import Claim, Table
 
 TABLE7_COLUMNS = ["component", "states", "total_s", "per_call_us", "per_state_ns", "in_search_total_s",
                   "in_search_evaluated_states", "in_search_per_state_ns", "in_search_cpu_per_state_ns",
@@ -60,24 +62,78 @@ def _rows(results: Mapping[str, list], seed: int) -> list[dict]:
 
 
 def _search_table(table_id: str, rows: list[dict], shown: list[dict], setup: str,
-                  claim_rows: list[dict] | None = None) -> Table:
+                  claim_rows: list[dict] | None = None, claims: list[Claim] | None = None) -> Table:
     """Tables I-V: the ``shown`` rows (``astar_rows`` or ``ana_rows`` of ``rows``), the claims ``check_claims``
-    decides on ``claim_rows`` (default: ``shown``), and notes: the set-up, the claims, the failure modes."""
-    claims = check_claims(table_id, shown if claim_rows is None else claim_rows)
+    decides on ``claim_rows`` (default: ``shown``) unless ``claims`` are given, and notes: the set-up, the
+    claims, the failure modes."""
+    if claims is None:
+        claims = check_claims(table_id, shown if claim_rows is None else claim_rows)
     notes = setup + " Claims: " + "; ".join(map(str, claims)) + ". " + failure_modes(rows)
     columns = ASTAR_COLUMNS if table_id in ("table1_heuristics_astar", "table3_pruning_astar") else ANA_COLUMNS
     return Table(table_id, SEARCH_REFS[table_id], columns, shown, PAPER[table_id], notes, claims)
 
 
-def table1(results: Mapping[str, list], excess: Mapping[str, float], seed: int) -> Table:
+def table1(results: Mapping[str, list], excess: Mapping[str, float], seed: int, lattice: StateLatticeRuns) -> Table:
     """Table I: A* with the Dist and the TTR heuristic on the table's start headings (``hj.planning.run_tasks``
-    results by method)."""
-    rows = _rows(results, seed)
+    results by method, on the paper-style continuous lattice), and beside them Dijkstra and both A* on the
+    true state lattice (``hj.state_lattice_runs.run_table``), on which "same optimal cost" is decided."""
+    rows, lattice_rows = _rows(results, seed), _rows(lattice.results, seed)
+    shown, lattice_shown = astar_rows(rows), astar_rows(lattice_rows)
+    s = lattice.settings
+    deltas = [r.delta for r in lattice.results[TTR]]
     setup = ("Our lattice (35 primitives, 0.5 s steps), room and start/goal (params.yaml hj.planner.table1); "
              "time_s = total search seconds of our compiled search, not comparable with the paper's Python. "
              "Means over successful tasks with 95% bootstrap CIs over tasks; success CIs Wilson. Paper node "
-             "counts are blank in its text (null). " + excess_note(excess))
-    return _search_table("table1_heuristics_astar", rows, astar_rows(rows), setup)
+             "counts are blank in its text (null). " + excess_note(excess)
+             + f" Rows '(state lattice)': the same tasks on a true state lattice (navlab.search.state_lattice): "
+             f"cell {s.cell_m} m, {lattice.headings} grid-aligned headings (the table's headings snapped to the "
+             f"nearest), speeds {', '.join(f'{v:g}' for v in s.speeds)} m/s, {lattice.n_primitives} motion "
+             "primitives, each ending exactly on a lattice state, swept-disc collision test conservative (a plan "
+             "found clears the obstacles); Dijkstra (h = 0), A* w/ Dist (distance to the goal disc / v_max) and "
+             f"A* w/ TTR (the TTR grid less its largest excess over the open room's exact cost-to-go, "
+             f"{max(deltas, default=0.0):.3f} s; h = 0 on goal states); cost = duration in s.")
+    claims = table1_claims(shown, lattice_shown, lattice)
+    return _search_table("table1_heuristics_astar", rows + lattice_rows, shown + lattice_shown, setup, claims=claims)
+
+
+def table1_claims(shown: list[dict], lattice_shown: list[dict], lattice: StateLatticeRuns) -> list[Claim]:
+    """Table I's claims: "TTR cuts A* expansions" and the failure check decided on the continuous-lattice
+    rows ``shown`` (``check_claims``), the expansions on the state lattice (``lattice_shown``) stated beside;
+    "same optimal cost" decided on the state lattice: both A* return Dijkstra's cost on every task
+    (|difference| <= ``TOLERANCE_S``), the continuous lattice's Dist vs TTR mean costs stated beside."""
+    continuous = {c.claim: c for c in check_claims("table1_heuristics_astar", shown)}
+    by = {r["method"]: r for r in lattice_shown}
+    nodes = (f"; state lattice: A* w/ TTR {by[TTR]['nodes']:.0f} vs A* w/ Dist {by[DIST]['nodes']:.0f} vs "
+             f"Dijkstra {by[DIJKSTRA]['nodes']:.0f} mean expansions")
+    expansions = continuous["TTR cuts A* expansions"]
+    expansions = replace(expansions, ours=expansions.ours + nodes)
+    reference = lattice.results[DIJKSTRA]
+    n = len(reference)
+    agree = {m: sum(same_cost(d, r) for d, r in zip(reference, lattice.results[m], strict=True)) for m in (DIST, TTR)}
+    ok = all(v == n for v in agree.values())
+    costs = ", ".join("none" if not r.found else f"{r.cost:.3f}" for r in reference)
+    cont = {r["method"]: r for r in shown}
+    d, t = cont["A* w/ Dist"]["cost"], cont["A* w/ TTR"]["cost"]
+    differs = d is None or t is None or abs(t - d) >= 1e-6
+    ours = (f"state lattice: A* w/ Dist and A* w/ TTR return Dijkstra's cost (within {TOLERANCE_S:g} s) on "
+            f"{agree[DIST]}/{n} and {agree[TTR]}/{n} tasks; Dijkstra's costs {costs} s, mean "
+            f"{by[DIJKSTRA]['cost']:.3f} s (A* w/ Dist {by[DIST]['cost']:.3f}, A* w/ TTR {by[TTR]['cost']:.3f}). "
+            f"Paper-style continuous lattice: A* w/ TTR {_s(t)} vs A* w/ Dist {_s(d)} s mean"
+            + ("; they differ because that lattice keeps one node per (x, y, v, θ) cell, the first best one to "
+               "reach it (Smac-style duplicate detection), so A* is optimal only over those representatives, and "
+               "another heuristic expands in another order and keeps others; on the state lattice every "
+               "primitive ends on a lattice state, so the search graph is fixed and A* with an admissible "
+               "heuristic is exact" if differs else ", the same"))
+    bad = [m for m in (DIST, TTR) if agree[m] < n]
+    why = "; ".join(f"{m} differs from Dijkstra on {n - agree[m]} of {n} task(s)" for m in bad) + (
+        ": its heuristic overestimates the lattice's cost-to-go there (not admissible)")
+    same = Claim.of("same optimal cost", ok, ours, why=why)
+    rest = [c for name, c in continuous.items() if name not in ("TTR cuts A* expansions", "same optimal cost")]
+    return [expansions, same, *rest]
+
+
+def _s(value: float | None) -> str:
+    return "none" if value is None else f"{value:.3f}"
 
 
 def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, max_expansions: int) -> Table:
@@ -216,8 +272,9 @@ def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
     notes = (f"Table VIII (rooms, routes, {t8.cycles} cycles, pose noise {t8.pose_noise_m} m; one seeded run per "
              f"point, seed {dynamic.seed}, where the table pools {t8.runs}) re-run with ANA* given each budget "
              f"of expansions per re-plan ({c.replan_hz:g} "
-             f"Hz; the table itself uses {c.max_expansions}); a car at rest lets its search run on for "
-             f"up to {c.rest_periods} periods, so a search from rest gets up to that many budgets. "
+             f"Hz; the table itself uses {c.max_expansions}); a car at rest lets its search run on, "
+             f"resumed, while it waits (neither room has humans), so a search from rest gets one budget per period "
+             f"waited, up to the {c.deadlock_s:g} s deadlock timer. "
              f"Success: trips without a wall hit, deadlock or timeout, Wilson 95% CIs. The paper states a time "
              f"budget on its robot, not an expansion count. {rules} Claims: " + "; ".join(map(str, claims)))
     return Table("sensitivity_budget", "HJ-search Table VIII, as a curve", BUDGET_COLUMNS, rows, [], notes, claims)

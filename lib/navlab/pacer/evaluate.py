@@ -45,21 +45,27 @@ def stitch_windows(window_costs: Callable[[list[tuple[int, int]]], torch.Tensor]
     return total[inner] / hits[inner].clamp_min(1e-6)
 
 
+def window_cutter(image: torch.Tensor, fov_mask: np.ndarray) -> Callable[[list[tuple[int, int]]], torch.Tensor]:
+    """corners -> (N, 3, window, window): the BEV-sized windows of the (3,H,W) ``image`` reflect-padded by
+    one window (the padded map ``stitch_windows`` thinks of), zero outside the field of view, as in training."""
+    window = fov_mask.shape[0]
+    padded = F.pad(torch.as_tensor(image, dtype=torch.float32)[None], (window,) * 4, mode="reflect")[0]
+    weight = torch.as_tensor(fov_mask, dtype=torch.float32)
+    return lambda corners: torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in corners])
+
+
 @torch.no_grad()
 def costmap_over_map(model: torch.nn.Module, image: torch.Tensor, context: torch.Tensor, fov_mask: np.ndarray,
                      *, overlap: int = 2, batch: int = 32, device: str | torch.device = "cpu") -> torch.Tensor:
     """(H,W) PACER costs of a large (3,H,W) map: the network on every window (zero outside its field of
     view, as in training), stitched by :func:`stitch_windows`."""
     model.eval()
-    window = fov_mask.shape[0]
     image = torch.as_tensor(image, dtype=torch.float32)
-    padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
-    weight = torch.as_tensor(fov_mask, dtype=torch.float32)
+    cut = window_cutter(image, fov_mask)
     ctx = torch.as_tensor(context, dtype=torch.float32)[None].to(device)
 
     def costs(corners):
-        windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in corners])
-        return torch.sigmoid(model(windows.to(device), ctx.expand(len(corners), -1, -1, -1))).cpu()
+        return torch.sigmoid(model(cut(corners).to(device), ctx.expand(len(corners), -1, -1, -1))).cpu()
 
     return stitch_windows(costs, tuple(image.shape[1:]), fov_mask, overlap=overlap, batch=batch)
 

@@ -33,13 +33,13 @@ from typing import Any
 import numpy as np
 import torch
 from torch.utils.data import DataLoader, Dataset
-from tqdm.auto import tqdm
 
 from navlab.core.fingerprint import code_fingerprint
 from navlab.core.io import sha256_file, sha256_json, write_json, write_text
 from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
-from navlab.pacer.checkpoints import load_network, resume_checkpoint, save_torch
+from navlab.core.training import TrainingRun, cosine_schedule, descend, fit, save_torch
+from navlab.pacer.checkpoints import load_network
 from navlab.pacer.loss import entropy_floor, masked_bce
 from navlab.pacer.map_windows import MapWindow, selection_score
 from navlab.pacer.model import PacerNet, build_model
@@ -164,25 +164,16 @@ def epoch_batches(datasets: Sequence[Dataset], draws: Sequence[tuple[int, int]],
                       num_workers=workers, persistent_workers=False)
 
 
-def improves(select_on: str, score: float, val: float, best: dict) -> bool:
-    """Whether an epoch of ``score`` (map-window selection score, higher is better; NaN when not measured)
-    and validation loss ``val`` beats ``best``: on ``val_loss`` by the loss alone; on ``map_windows`` by the
-    score, a tie (or a NaN score, where no window shows two terrains) falling back to the loss."""
+def improves(select_on: str, row: dict, best: dict) -> bool:
+    """Whether an epoch's log ``row`` beats the ``best`` one so far: on ``val_loss`` by the validation loss
+    alone; on ``map_windows`` by ``select_score`` (map-window selection score, higher is better; NaN when not
+    measured), a tie (or a NaN score, where no window shows two terrains) falling back to the loss."""
     if select_on not in SELECT_ON:
         raise ValueError(f"pacer.train.select_on = {select_on!r}: allowed values are {', '.join(SELECT_ON)}")
-    if best["weights"] is None:
-        return True
-    best_score = best.get("score", float("nan"))
+    score, best_score = row["select_score"], best["select_score"]
     if select_on == "map_windows" and not (np.isnan(score) and np.isnan(best_score)) and score != best_score:
         return bool(np.nan_to_num(score, nan=-np.inf) > np.nan_to_num(best_score, nan=-np.inf))
-    return val < best["val_loss"]
-
-
-def cosine_lr(step: int, total: int, lr: float, final_fraction: float) -> float:
-    """Cosine decay from ``lr`` at step 0 to ``lr * final_fraction`` at step ``total`` (Loshchilov and
-    Hutter, SGDR, ICLR 2017, without restarts)."""
-    progress = min(step, total) / max(total, 1)
-    return lr * (final_fraction + (1.0 - final_fraction) * 0.5 * (1.0 + np.cos(np.pi * progress)))
+    return row["val_loss"] < best["val_loss"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -254,67 +245,42 @@ def train_phase(
 
     torch.manual_seed(seed)  # layer initialisation of phase 1
     model = build_model(model_cfg, context_pairs=context_pairs, device=device).to(memory_format=torch.channels_last)
-    optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
-    rows: list[dict] = []
-    best = {"epoch": 0, "val_loss": float("inf"), "score": float("nan"), "weights": None}
-    checkpoint_path = out_dir / "checkpoint.pt"
-    checkpoint = resume_checkpoint(checkpoint_path, key, device)
-    if checkpoint is not None:
-        model.load_state_dict(checkpoint["weights"])
-        optimiser.load_state_dict(checkpoint["optimiser"])
-        rows, best = checkpoint["log"], checkpoint["best"]
-    elif initial is not None:
+    if initial is not None:  # a resumed checkpoint replaces these weights
         model.load_state_dict(initial.state_dict())
+    optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
+    schedule = cosine_schedule(optimiser, epochs * steps_per_epoch, train_cfg.lr_final_fraction)
 
-    def stalled() -> bool:
-        return len(rows) - best["epoch"] >= train_cfg.patience
-
-    bar = tqdm(range(len(rows), epochs), desc=f"PACER {phase}", disable=not progress, initial=len(rows),
-               total=epochs)
-    for epoch in bar:
-        if stalled():
-            break
-        model.train()
+    def train_epoch(epoch: int) -> dict[str, float]:
         for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
             if hasattr(ds, "set_epoch"):
                 ds.set_epoch(epoch)
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
-        for k, batch in enumerate(epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers)):
-            for group in optimiser.param_groups:
-                group["lr"] = cosine_lr(epoch * steps_per_epoch + k, epochs * steps_per_epoch, train_cfg.lr,
-                                        train_cfg.lr_final_fraction)
+        for batch in epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers):
             loss = batch_loss(model, batch, device)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
+            descend(loss, optimiser, schedule)
             losses.append(loss.item())
         val = validation_loss(model, val_items, train_cfg.batch_size, device)
         score = (selection_score(model, select_windows, cost_scale, batch=train_cfg.batch_size, device=device)
                  if select else float("nan"))
-        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score})
-        if improves(train_cfg.select_on, score, val, best):
-            best = {"epoch": epoch + 1, "val_loss": val, "score": score,
-                    "weights": {k: v.detach().clone() for k, v in model.state_dict().items()}}
-        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val=f"{val:.4f}", score=f"{score:.4f}",
-                        best=best["epoch"])
-        save_torch(checkpoint_path, {"key": key, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
-                                     "log": rows, "best": best})
-        _write_log(rows, out_dir / "val_loss.tsv")
+        return {"train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score}
 
+    fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, epochs, train_cfg.patience,
+                                               f"PACER {phase}", progress),
+                 train_epoch, lambda row, best: improves(train_cfg.select_on, row, best), scheduler=schedule,
+                 device=device, on_epoch=lambda rows: _write_log(rows, out_dir / "val_loss.tsv"))
+    rows, best = fitted.log, fitted.best
     _write_log(rows, out_dir / "val_loss.tsv")
-    if best["weights"] is not None:
-        model.load_state_dict(best["weights"])
     write_json(out_dir / "summary.json", {
         "phase": phase, "epochs_run": len(rows), "max_epochs": epochs, "stopped_early": len(rows) < epochs,
-        "best_epoch": best["epoch"], "best_val_loss": best["val_loss"] if best["weights"] is not None else None,
+        "best_epoch": fitted.best_epoch, "best_val_loss": best["val_loss"] if best is not None else None,
         "select_on": train_cfg.select_on,
-        "best_select_score": best["score"] if select and best["weights"] is not None else None,
+        "best_select_score": best["select_score"] if select and best is not None else None,
         "entropy_floor": entropy_floor(val_items), "steps": len(rows) * steps_per_epoch,
     })
     model_path = out_dir / "model.pt"
     save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
                             "weights": {k: v.contiguous() for k, v in model.state_dict().items()}, "phase": phase, "epochs": len(rows),
-                            "best_epoch": best["epoch"]})
+                            "best_epoch": fitted.best_epoch})
     return model_path
 

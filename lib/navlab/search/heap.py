@@ -120,17 +120,22 @@ def before(key, a, b):
 
 
 @njit(cache=True, inline="always")
+def _slot(heap, pos, i, item):
+    """Put ``item`` in slot ``i`` and record the slot in ``pos`` (what every sift step does)."""
+    heap[i] = item
+    pos[item] = i
+
+
+@njit(cache=True, inline="always")
 def _sift_up(heap, pos, key, i, item):
     """Place ``item`` at slot ``i`` or above, moving larger parents down (a hole, not swaps)."""
     while i > 0:
         parent = (i - 1) >> 1
         if not before(key, item, heap[parent]):
             break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
+        _slot(heap, pos, i, heap[parent])
         i = parent
-    heap[i] = item
-    pos[item] = i
+    _slot(heap, pos, i, item)
 
 
 @njit(cache=True, inline="always")
@@ -145,11 +150,9 @@ def _sift_down(heap, pos, key, i, n):
             child += 1
         if not before(key, heap[child], item):
             break
-        heap[i] = heap[child]
-        pos[heap[i]] = i
+        _slot(heap, pos, i, heap[child])
         i = child
-    heap[i] = item
-    pos[item] = i
+    _slot(heap, pos, i, item)
 
 
 @njit(cache=True)
@@ -166,17 +169,23 @@ def pop_top(queue):
     return top
 
 
+@njit(cache=True, inline="always")
+def _open_slot(pos, size, s):
+    """``s``'s slot in the heap, or a new one at the end when ``s`` is not queued."""
+    i = pos[s]
+    if i < 0:
+        i = size[0]
+        size[0] = i + 1
+    return i
+
+
 @njit(cache=True)
 def insert_or_decrease(queue, s):
     """Queue ``s`` (``pos[s] < 0``) or move it up after its key row dropped; the caller wrote the new key.
 
     Only sifts up: the cheap path of A*, whose keys of open items never grow."""
     heap, pos, size, key = queue
-    i = pos[s]
-    if i < 0:
-        i = size[0]
-        size[0] = i + 1
-    _sift_up(heap, pos, key, i, s)
+    _sift_up(heap, pos, key, _open_slot(pos, size, s), s)
 
 
 @njit(cache=True, inline="always")
@@ -185,13 +194,9 @@ def insert_or_update(queue, s):
 
     Inlined into its caller: D* Lite's walks on the benchmark maps ran 5-8% faster than with a call."""
     heap, pos, size, key = queue
-    i = pos[s]
-    if i < 0:
-        i = size[0]
-        size[0] = i + 1
-        _sift_up(heap, pos, key, i, s)
-    else:
-        _sift_up(heap, pos, key, i, s)
+    queued = pos[s] >= 0
+    _sift_up(heap, pos, key, _open_slot(pos, size, s), s)
+    if queued:
         _sift_down(heap, pos, key, pos[s], size[0])
 
 

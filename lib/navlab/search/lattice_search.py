@@ -275,7 +275,7 @@ class SearchResult:
     expansions: int  # in total
     controls: np.ndarray  # (K, 2) (a, ω) per step of the returned plan
     states: np.ndarray  # (K + 1, 4) lattice states along it
-    seconds: float
+    seconds: float  # since the search began (over resumes)
     heuristic_evals: int = 0
     pruner_evals: int = 0  # segment samples checked (each pruner call checks samples_per_step of them)
     # ANA*: every improving solution, in order
@@ -283,6 +283,7 @@ class SearchResult:
     solution_seconds: list[float] = field(default_factory=list)
     solution_costs: list[float] = field(default_factory=list)
     solution_bounds: list[float] = field(default_factory=list)
+    frontier: Frontier | None = None  # a search stopped at its limit, with ``keep_frontier``: ``resume`` goes on
 
     @property
     def found(self) -> bool:
@@ -353,10 +354,12 @@ def _ana_key(G, g, h):
 
 
 @numba.njit(cache=True, error_model="numpy")  # no zero-division checks (and their error paths) in the loop
-def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
+def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state):
     """The compiled A*/ANA* loop. Bundles (``search`` builds them): lattice (dt, cell_m, dims, snap); heur (kind,
     field, par); prune: static and collision (kind, field, cell minima, par) of two static pruners, then human
-    (kind, field, par, humans); cost (use_cost, field, weight); limits (anytime, max_expansions, time_limit)."""
+    (kind, field, par, humans); cost (use_cost, field, weight); limits (anytime, max_expansions, time_limit);
+    state (``_fresh_state``: g and best node per cell, the node pool, OPEN, the solutions, the counters), which
+    it goes on from and returns, so that a search stopped at its limit can be resumed (``resume``)."""
     dt, cell_m, dims, snap = lattice
     hk, hf, hp = heur
     static, collision, human = prune
@@ -365,30 +368,15 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
     uk, uf, up, humans = human
     use_cost, cf, cost_w = cost
     anytime, max_expansions, time_limit = limits
+    g, best, st, parent, prim, cell, hval, tn, heap_k, heap_g, heap_c, sol_i, sol_f, counts, reals = state
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
-    n_cells = nx * ny * nlev * nbins
-    g = np.full(n_cells, np.inf)  # the best g found per cell ...
-    best = np.full(n_cells, -1, np.int64)  # ... and the node that holds it
-    # the node pool: every inserted node keeps its own state, parent node and primitive, so a plan is the
-    # chain of states that were actually pruned and costed, even after its cell got a better node
-    cap = 1 << 14
-    st = np.empty((cap, 4))
-    parent = np.empty(cap, np.int64)
-    prim = np.empty(cap, np.int32)
-    cell = np.empty(cap, np.int64)
-    hval = np.empty(cap)
-    tn = np.empty(cap)  # the node's time after the start (steps × dt; the human pruner predicts to it)
-    heap_k = np.empty(1 << 14)
-    heap_g = np.empty(1 << 14)
-    heap_c = np.empty(1 << 14, np.int64)
-    n_heap = 0
     segment = np.empty((1, n_samp, 4))  # one segment, indexed as first_unsafe reads it
     samples = segment[0]
     bin_w = 2.0 * math.pi / nbins
     v_top = goal[4]  # the lattice's v_max
     step_t = dt / n_samp  # time between a segment's samples (the swept check's interval)
-    t0 = _now()
+    t0 = _now() - reals[1]  # the time already spent counts: solution times are from the search's start
     hv, hm = field_meta(hf)
     sv, sm = field_meta(sf)
     cv_, cm_ = field_meta(cf_)
@@ -405,31 +393,37 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
         b = round(th / bin_w) % nbins
         return ((ix * ny + iy) * nlev + lev) * nbins + b
 
-    c0 = cell_of(start[0], start[1], start[2], start[3])
-    g[c0] = 0.0
-    best[c0] = 0
-    st[0] = start
-    parent[0], prim[0], cell[0] = -1, -1, c0
-    h0 = heuristic(hk, hv, hm, hp, start[0], start[1], start[2], start[3])
-    hval[0] = h0
-    tn[0] = 0.0
-    n_nodes = 1
-    G = np.inf
-    E = np.inf
-    heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, _ana_key(G, 0.0, h0) if anytime
-                                           else h0, 0.0, 0)
-    sol_exp = np.zeros(MAX_SOLUTIONS, np.int64)
-    sol_t = np.zeros(MAX_SOLUTIONS)
-    sol_G = np.zeros(MAX_SOLUTIONS)
-    sol_bound = np.zeros(MAX_SOLUTIONS)
-    n_sol = 0
-    expansions = 0
-    h_evals = 1
-    p_evals = 0
-    status = NO_PATH
-    goal_node = -1  # the goal node
+    n_nodes, n_heap, n_sol, expansions, h_evals, p_evals, goal_node = counts[:7]
+    G = reals[0]
+    if n_nodes == 0:  # a fresh search: the start is node 0
+        c0 = cell_of(start[0], start[1], start[2], start[3])
+        g[c0] = 0.0
+        best[c0] = 0
+        st[0] = start
+        parent[0], prim[0], cell[0] = -1, -1, c0
+        h0 = heuristic(hk, hv, hm, hp, start[0], start[1], start[2], start[3])
+        hval[0] = h0
+        tn[0] = 0.0
+        n_nodes = 1
+        h_evals = 1
+        heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, _ana_key(G, 0.0, h0) if anytime
+                                               else h0, 0.0, 0)
+    status = NO_PATH if goal_node < 0 else FOUND
+    stopped = False  # at a limit, with OPEN kept as it is: ``resume`` goes on from exactly here
     last = n_samp - 1
     while n_heap > 0:
+        # the limits are checked before the pop, only when the top would be expanded, so that a stopped search
+        # leaves OPEN untouched (stale, dominated and goal entries are popped, as always, at no expansion)
+        top = heap_c[0]
+        if best[cell[top]] == top and not (anytime and heap_g[0] + hval[top] >= G):
+            dx, dy = st[top, 0] - x_goal, st[top, 1] - y_goal
+            if not (dx * dx + dy * dy <= tol2 and st[top, 2] <= v_goal):
+                if expansions >= max_expansions:
+                    status, stopped = (EXPANSION_LIMIT if goal_node < 0 else FOUND), True
+                    break
+                if (expansions & 255) == 0 and _now() - t0 > time_limit:
+                    status, stopped = (TIME_LIMIT if goal_node < 0 else FOUND), True
+                    break
         g_cur, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
         if best[cell[cur]] != cur:
             continue  # stale entry: its cell got a better node since
@@ -457,20 +451,13 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
             for i in range(m):
                 heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, kk[i], gg[i], cc[i])
             if n_sol < MAX_SOLUTIONS:
-                sol_exp[n_sol], sol_t[n_sol], sol_G[n_sol] = expansions, _now() - t0, G
-                sol_bound[n_sol] = G / lo if m > 0 and lo > 0 else 1.0
+                sol_i[n_sol] = expansions
+                sol_f[n_sol, 0], sol_f[n_sol, 1] = _now() - t0, G
+                sol_f[n_sol, 2] = G / lo if m > 0 and lo > 0 else 1.0
                 n_sol += 1
             status = FOUND
             continue
-        if expansions >= max_expansions:
-            status = EXPANSION_LIMIT if goal_node < 0 else FOUND
-            break
-        if (expansions & 255) == 0 and _now() - t0 > time_limit:
-            status = TIME_LIMIT if goal_node < 0 else FOUND
-            break
         expansions += 1
-        if anytime and G < np.inf and hval[cur] > 0.0:
-            E = min(E, (G - g_cur) / hval[cur])
         # the start's own first-step primitives (its exact speed, ``first_step``), the level's table after
         rows = root if cur == 0 else table[round(sv_ / v_top * (nlev - 1))]
         cth, sth_ = math.cos(sth), math.sin(sth)
@@ -553,8 +540,23 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits):
     for i in range(n_path - 1, -1, -1):
         prims[i] = prim[c]
         c = parent[c]
-    return (status, expansions, h_evals, p_evals, prims, sol_exp[:n_sol].copy(), sol_t[:n_sol].copy(),
-            sol_G[:n_sol].copy(), sol_bound[:n_sol].copy(), _now() - t0)
+    counts[0], counts[1], counts[2], counts[3] = n_nodes, n_heap, n_sol, expansions
+    counts[4], counts[5], counts[6] = h_evals, p_evals, goal_node
+    reals[0], reals[1] = G, _now() - t0
+    return (status, stopped, prims,
+            (g, best, st, parent, prim, cell, hval, tn, heap_k, heap_g, heap_c, sol_i, sol_f, counts, reals))
+
+
+def _fresh_state(n_cells: int) -> tuple:
+    """An empty search: no g per cell, room for 2^14 nodes and OPEN entries (both grow), no solutions."""
+    cap = 1 << 14
+    return (np.full(n_cells, np.inf), np.full(n_cells, -1, np.int64),
+            np.empty((cap, 4)), np.empty(cap, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int64),
+            np.empty(cap), np.empty(cap),  # st, parent, prim, cell, hval, tn (the node's time after the start)
+            np.empty(cap), np.empty(cap), np.empty(cap, np.int64),  # OPEN: keys, g, nodes
+            np.zeros(MAX_SOLUTIONS, np.int64), np.zeros((MAX_SOLUTIONS, 3)),  # expansions; seconds, cost, bound
+            np.array([0, 0, 0, 0, 0, 0, -1], np.int64),  # nodes, OPEN, solutions, expansions, h, pruner evals, goal
+            np.array([np.inf, 0.0]))  # G (ANA*'s incumbent cost), seconds spent
 
 
 def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
@@ -603,12 +605,15 @@ def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
 
 
 def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *, pruners: Pruners = NO_PRUNERS,
-           costmap: Costmap = Costmap(), budget: Budget = A_STAR, table: np.ndarray | None = None) -> SearchResult:
+           costmap: Costmap = Costmap(), budget: Budget = A_STAR, table: np.ndarray | None = None,
+           keep_frontier: bool = False) -> SearchResult:
     """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)),
     pruning with ``pruners`` and stopping by ``budget`` (A* or ANA*).
 
     The start's speed need not be a level: its first step then uses ``first_step``'s primitives (the
     returned first control carries their adjusted acceleration), every later step the level table.
+    ``keep_frontier``: a search stopped at its expansion or time limit keeps its OPEN list and nodes in the
+    result's ``frontier``, for ``resume``.
     """
     static, collision, human = pruners
     start = np.asarray(start, np.float64)
@@ -631,25 +636,70 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
     root, root_controls = first_step(spec, float(start[2]))
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
-    out = _search(start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
-                  (heuristic_.kind, heuristic_.field, heuristic_.par),
-                  ((static.kind, static.field, static.lower, static.par),
-                   (collision.kind, collision.field, collision.lower, collision.par),
-                   (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
-                  (costmap.field is not None, cf, float(costmap.weight)),
-                  (bool(budget.anytime), int(budget.max_expansions), float(budget.time_limit_s)))
-    status, expansions, h_evals, p_evals, prims, s_exp, s_t, s_g, s_b, secs = out
+    inputs = (start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
+              (heuristic_.kind, heuristic_.field, heuristic_.par),
+              ((static.kind, static.field, static.lower, static.par),
+               (collision.kind, collision.field, collision.lower, collision.par),
+               (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
+              (costmap.field is not None, cf, float(costmap.weight)))
+    frontier = Frontier(spec, costmap, root_controls, budget, inputs, _fresh_state(int(np.prod(dims))))
+    return _go_on(frontier, int(budget.max_expansions), keep_frontier)
+
+
+@dataclass
+class Frontier:
+    """A search stopped at its limit, as it stands (every node, g per cell, OPEN, the solutions so far), with
+    what it searches: ``resume`` goes on from here. Its arrays are the search's own: it goes on once."""
+
+    spec: LatticeSpec
+    costmap: Costmap
+    root_controls: np.ndarray
+    budget: Budget
+    inputs: tuple  # the compiled search's start, goal, tables and bundles (``search`` builds them)
+    state: tuple | None  # ``_fresh_state``'s arrays as the search left them; None once resumed
+
+    @property
+    def expansions(self) -> int:
+        return -1 if self.state is None else int(self.state[-2][3])
+
+
+def resume(frontier: Frontier, max_expansions: int) -> SearchResult:
+    """Go on with a stopped search until ``max_expansions`` in all (or its time limit, counted from its
+    start): the result, the counts and every solution are those of one search given that budget at once
+    (tested), at the cost of the new expansions only. Why: a robot at rest in a static world waits for its
+    plan, and its search should not start over each re-plan period (``hj.lattice_policy``)."""
+    if frontier.state is None:
+        raise ValueError("this frontier was resumed already (a search's arrays go on once); resume the frontier "
+                         "of the newest result")
+    if max_expansions < frontier.expansions:
+        raise ValueError(f"max_expansions {max_expansions} is below the {frontier.expansions} expansions the "
+                         "search has spent; give the total budget, not the increment")
+    return _go_on(frontier, int(max_expansions), True)
+
+
+def _go_on(frontier: Frontier, max_expansions: int, keep: bool) -> SearchResult:
+    """Run the compiled search from ``frontier``'s state up to ``max_expansions`` in all; its SearchResult."""
+    state, frontier.state = frontier.state, None
+    budget = frontier.budget
+    status, stopped, prims, state = _search(*frontier.inputs, (bool(budget.anytime), max_expansions,
+                                                                 float(budget.time_limit_s)), state)
+    counts, sol_i, sol_f = state[-2], state[-4], state[-3]
+    n_sol = int(counts[2])
+    spec, costmap = frontier.spec, frontier.costmap
+    start, _, table, root = frontier.inputs[:4]
     found = status == FOUND
     states, cost = replay(spec, table, start, prims, costmap, root) if found else (start[None], math.inf)
     controls = spec.controls[prims] if found else np.zeros((0, 2))
     if len(controls):
-        controls[0] = root_controls[prims[0]]
+        controls[0] = frontier.root_controls[prims[0]]
     return SearchResult(
-        status=STATUS[status], cost=cost, expansions=int(expansions),
-        controls=controls, states=states, seconds=float(secs),
-        heuristic_evals=int(h_evals), pruner_evals=int(p_evals),
-        solution_expansions=[int(e) for e in s_exp], solution_seconds=[float(t) for t in s_t],
-        solution_costs=[float(c) for c in s_g], solution_bounds=[float(b) for b in s_b])
+        status=STATUS[status], cost=cost, expansions=int(counts[3]),
+        controls=controls, states=states, seconds=float(state[-1][1]),
+        heuristic_evals=int(counts[4]), pruner_evals=int(counts[5]),
+        solution_expansions=[int(e) for e in sol_i[:n_sol]], solution_seconds=[float(t) for t in sol_f[:n_sol, 0]],
+        solution_costs=[float(c) for c in sol_f[:n_sol, 1]], solution_bounds=[float(b) for b in sol_f[:n_sol, 2]],
+        frontier=Frontier(spec, costmap, frontier.root_controls, budget, frontier.inputs, state)
+        if keep and stopped else None)
 
 
 def zero_heuristic() -> Heuristic:

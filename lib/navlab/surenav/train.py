@@ -7,8 +7,8 @@ AdamW. Validation: the relaxation IoU of the *plan* (the exact A*'s path under t
 intersected with R_soft) against the expert's relaxed regions, averaged over the validation samples —
 the quantity Table I reports, on the regions of the demonstration's own graph.
 
-Resumable: a checkpoint after every epoch (weights, optimiser, torch RNG state, the log), written
-atomically; the epoch's sample order comes from ``rng(seed, "surenav.train", epoch)``, so a run
+Resumable (``core.training.fit``): a checkpoint after every epoch (weights, optimiser, torch RNG state, the
+log, the best epoch), written atomically; the epoch's sample order comes from ``rng(seed, "surenav.train", epoch)``, so a run
 killed and started again ends at the weights of an uninterrupted run. The checkpoint is keyed on the
 code (``core.fingerprint.code_fingerprint`` of this module: every navlab module it imports,
 transitively — the estimator, its inputs, the loss, the differentiable A*), every parameter that
@@ -43,12 +43,12 @@ import numpy as np
 import torch
 from torch_geometric.data import Batch
 from torch_geometric.utils import to_dense_batch
-from tqdm.auto import tqdm
 
 from navlab.core.fingerprint import code_fingerprint
-from navlab.core.io import DataError, atomic_path, sha256_json, write_text
+from navlab.core.io import DataError, sha256_json, write_text
 from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
+from navlab.core.training import TrainingRun, descend, fit, save_torch
 from navlab.search.diff_astar import DiffAStarResult, batch_graphs, diff_astar
 from navlab.surenav.loss import batch_loss
 from navlab.surenav.model.estimator import (
@@ -130,15 +130,15 @@ def evaluate(model: RelaxationCostEstimator, samples: Sequence[Sample], train: T
     return float(np.sum(losses) / max(len(samples), 1)), float(np.mean(ious)) if ious else float("nan")
 
 
-def _save(obj, path: Path) -> None:
-    with atomic_path(path) as tmp:
-        torch.save(obj, tmp)
-
-
 def _write_log(rows: list[dict], path: Path) -> None:
     lines = [LOG_HEADER] + [f"{r['epoch']}\t{r['train_loss']:.6f}\t{r['val_loss']:.6f}\t{r['val_iou']:.6f}\t"
                             f"{r['train_iou']:.6f}" for r in rows]
     write_text(path, "\n".join(lines) + "\n")
+
+
+def better_iou(row: dict, best: dict) -> bool:
+    """A higher validation plan IoU; a NaN one (no validation set) always wins, so the last epoch is kept."""
+    return not row["val_iou"] <= best["val_iou"]
 
 
 def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sample], model_params: EstimatorParams,
@@ -161,47 +161,26 @@ def train_estimator(train_samples: Sequence[Sample], val_samples: Sequence[Sampl
     torch.manual_seed(seed)  # layer initialisation
     model = build_estimator(model_params, attention, device)
     optimiser = torch.optim.AdamW(model.parameters(), lr=train.lr, weight_decay=train.weight_decay)
-    rows: list[dict] = []
-    best: dict = {"val_iou": -1.0, "epoch": 0, "weights": None}
-    checkpoint_path = out_dir / "checkpoint.pt"
-    if checkpoint_path.is_file():
-        checkpoint = torch.load(checkpoint_path, map_location=device, weights_only=False)
-        if checkpoint["key"] == key:
-            model.load_state_dict(checkpoint["weights"])
-            optimiser.load_state_dict(checkpoint["optimiser"])
-            torch.set_rng_state(checkpoint["rng"])
-            rows, best = checkpoint["log"], checkpoint["best"]
-    name = "GPS" if attention else "MPNN"
-    bar = tqdm(range(len(rows), train.epochs), desc=f"SuReNav {name} seed {seed}", disable=not progress,
-               initial=len(rows), total=train.epochs)
-    for epoch in bar:
-        if train.patience and epoch - best["epoch"] >= train.patience:
-            break  # early stopping: no better validation IoU for `patience` epochs (a resumed run stops here too)
-        model.train()
+
+    def train_epoch(epoch: int) -> dict[str, float]:
         order = rng(seed, "surenav.train", epoch).permutation(len(train_samples))
         losses = []
         for lo in range(0, len(order), train.batch_size):
             chunk = [train_samples[i] for i in order[lo:lo + train.batch_size]]
-            result, v, target = plan_batch(model, chunk, train.temperature, device)
-            loss = training_loss(result, v, target, train)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
+            loss = training_loss(*plan_batch(model, chunk, train.temperature, device), train)
+            descend(loss, optimiser)
             losses.append(float(loss.detach()))
         val_loss, val_iou = evaluate(model, val_samples, train, device)
         train_iou = evaluate(model, train_samples[::TRAIN_IOU_STRIDE], train, device)[1]  # over- or underfitting?
-        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val_loss,
-                     "val_iou": val_iou, "train_iou": train_iou})
-        bar.set_postfix(train=f"{rows[-1]['train_loss']:.4f}", val_iou=f"{val_iou:.3f}")
-        if best["weights"] is None or not val_iou <= best["val_iou"]:  # NaN (no validation set): keep the last
-            best = {"val_iou": val_iou, "epoch": epoch + 1,
-                    "weights": {k: v.detach().clone() for k, v in model.state_dict().items()}}
-        _save({"key": key, "weights": model.state_dict(), "optimiser": optimiser.state_dict(),
-               "rng": torch.get_rng_state(), "log": rows, "best": best}, checkpoint_path)
-        _write_log(rows, out_dir / "log.tsv")
-    _write_log(rows, out_dir / "log.tsv")
-    _save({**architecture(model), "weights": best["weights"], "best_epoch": best["epoch"], "key": key, "seed": seed,
-           "log": rows}, model_path)
+        return {"train_loss": float(np.mean(losses)), "val_loss": val_loss, "val_iou": val_iou, "train_iou": train_iou}
+
+    name = "GPS" if attention else "MPNN"
+    fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, train.epochs, train.patience,
+                                               f"SuReNav {name} seed {seed}", progress),
+                 train_epoch, better_iou, device=device, on_epoch=lambda rows: _write_log(rows, out_dir / "log.tsv"))
+    _write_log(fitted.log, out_dir / "log.tsv")
+    save_torch(model_path, {**architecture(model), "weights": model.state_dict(), "best_epoch": fitted.best_epoch,
+                            "key": key, "seed": seed, "log": fitted.log})
     return model_path
 
 

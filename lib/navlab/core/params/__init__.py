@@ -3,20 +3,19 @@
 A leaf in params.yaml is either a plain value, used by every profile, or a mapping whose keys are
 profile names (``{smoke: 2, default: 8, paper: 32}``); a profile missing there takes ``default``.
 The typed schema lives beside this module (one dataclass per section); loading resolves the profile,
-then checks every key, type and range against it and stops at the first problem with one line.
+then pydantic checks every key, type and range against it; the first problem stops it with one line.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
-import math
-import types
 import typing
 from pathlib import Path
 from typing import Any
 
 import yaml
+from pydantic import TypeAdapter, ValidationError
 
 from navlab.core.params.schema import PROFILES, Params
 
@@ -55,7 +54,7 @@ def load_params(profile: str | None = None, path: str | Path | None = None) -> P
         raise ParamsError(f"profile = {profile!r}: allowed profiles are {', '.join(PROFILES)}")
     resolved = resolve_profile(raw, profile)
     resolved["profile"] = profile
-    return _build(Params, resolved, "")
+    return _validate(resolved)
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -90,78 +89,78 @@ def resolve_profile(tree: Any, profile: str, where: str = "") -> Any:
     return tree
 
 
+def _validate(data: dict[str, Any]) -> Params:
+    """The typed ``Params`` of a resolved profile, or a one-line ParamsError for its first problem."""
+    try:
+        return _adapter().validate_python(_yaml_values(data))
+    except ValidationError as err:
+        raise _params_error(_first_problem(err.errors())) from None
+
+
+def _first_problem(errors: list[Any]) -> Any:
+    """pydantic's first error, or an unknown key of a section holding it: a misspelt key is both unknown and
+    missing, and its name is the one to fix."""
+    first = errors[0]["loc"]
+    unknown = [e for e in errors
+               if e["type"] == "unexpected_keyword_argument" and first[:len(e["loc"]) - 1] == e["loc"][:-1]]
+    return min(unknown, key=lambda e: len(e["loc"]), default=errors[0])
+
+
 @functools.cache
-def _hints(cls: type) -> dict[str, Any]:
-    return typing.get_type_hints(cls)
+def _adapter() -> TypeAdapter[Params]:
+    """Built on first use, once: the schema takes a moment to build and most imports never load params."""
+    return TypeAdapter(Params)
 
 
-def _build(cls: type, data: Any, where: str) -> Any:
-    if not isinstance(data, dict):
-        raise ParamsError(f"{where or 'params.yaml'} = {data!r}: expected a mapping of {cls.__name__} keys")
-    fields = {f.name: f for f in dataclasses.fields(cls)}
-    unknown = sorted(set(data) - set(fields))
-    if unknown:
-        key = f"{where}.{unknown[0]}".lstrip(".")
-        raise ParamsError(f"{key}: unknown key; allowed keys here are {', '.join(sorted(fields))}")
-    values = {}
-    for name, field in fields.items():
-        key = f"{where}.{name}".lstrip(".")
-        if name not in data:
-            raise ParamsError(f"{key}: missing; add it to params.yaml")
-        values[name] = _check(_hints(cls)[name], data[name], key, field.metadata)
-    for name, value in values.items():  # a range given as min_<x> / max_<x>: an empty one fails much later
-        upper = f"max_{name.removeprefix('min_')}"
-        numbers = all(isinstance(v, int | float) for v in (value, values.get(upper)))
-        if name.startswith("min_") and upper in values and numbers and value > values[upper]:
-            key = f"{where}.{name}".lstrip(".")
-            raise ParamsError(f"{key} = {value!r} exceeds {upper} = {values[upper]!r}; give min <= max")
-    return cls(**values)
+def _yaml_values(tree: Any) -> Any:
+    """YAML spells a tuple as a list (the schemas hold tuples: hashable, immutable) and may key a mapping
+    by a number; strict validation wants tuples and string keys."""
+    if isinstance(tree, dict):
+        return {str(k): _yaml_values(v) for k, v in tree.items()}
+    if isinstance(tree, list):
+        return tuple(_yaml_values(v) for v in tree)
+    return tree
 
 
-def _check(hint: Any, value: Any, key: str, meta: typing.Mapping) -> Any:
-    origin, args = typing.get_origin(hint), typing.get_args(hint)
-    if dataclasses.is_dataclass(hint):
-        return _build(hint, value, key)
-    if origin in (typing.Union, types.UnionType):
-        if value is None and type(None) in args:
-            return None
-        (inner,) = [a for a in args if a is not type(None)]
-        return _check(inner, value, key, meta)
-    if origin is typing.Literal:
-        if value not in args:
-            raise ParamsError(f"{key} = {value!r}: allowed values are {', '.join(map(repr, args))}")
-        return value
-    if origin in (tuple, list):
-        item = args[0] if args else Any
-        if not isinstance(value, list | tuple):
-            raise ParamsError(f"{key} = {value!r}: expected a list")
-        length = meta.get("length")
-        if length is not None and len(value) != length:
-            raise ParamsError(f"{key} = {value!r}: expected a list of {length} items")
-        items = tuple(_check(item, v, f"{key}[{i}]", meta) for i, v in enumerate(value))
-        if meta.get("ordered") and list(items) != sorted(items):
-            raise ParamsError(f"{key} = {list(value)!r}: give [min, max] with min <= max")
-        return items
-    if origin is dict:
-        if not isinstance(value, dict):
-            raise ParamsError(f"{key} = {value!r}: expected a mapping")
-        return {str(k): _check(args[1], v, f"{key}.{k}", meta) for k, v in value.items()}
-    expected = {float: ((int, float), "a number"), int: (int, "an integer"), bool: (bool, "true or false"),
-                str: (str, "a string")}.get(hint)
-    if expected is not None:
-        types_ok, words = expected
-        if isinstance(value, dict):  # a leaf given as a mapping: a profile mapping with a mistyped profile
-            raise ParamsError(f"{key} = {value!r}: expected {words}, or a profile mapping with keys "
-                              f"{', '.join(PROFILES)} (unknown: {', '.join(map(str, value))})")
-        if (isinstance(value, bool) and hint is not bool) or not isinstance(value, types_ok):
-            raise ParamsError(f"{key} = {value!r}: expected {words}")
-        if hint is float:
-            value = float(value)
-            if not math.isfinite(value):
-                raise ParamsError(f"{key} = {value!r}: expected a finite number")
-    lo, hi = meta.get("min"), meta.get("max")
-    if (lo is not None and value < lo) or (hi is not None and value > hi):
-        allowed = f"between {lo} and {hi}" if lo is not None and hi is not None else (
-            f">= {lo}" if lo is not None else f"<= {hi}")
-        raise ParamsError(f"{key} = {value!r}: out of range, allowed {allowed}")
-    return value
+def _shown(value: Any) -> Any:
+    """``value`` as params.yaml spells it (lists, not the tuples validation saw), for a message."""
+    if isinstance(value, dict):
+        return {k: _shown(v) for k, v in value.items()}
+    return [_shown(v) for v in value] if isinstance(value, tuple) else value
+
+
+_EXPECTED = {"float_type": "a number", "int_type": "an integer", "bool_type": "true or false",
+             "string_type": "a string", "tuple_type": "a list", "dict_type": "a mapping"}
+
+
+def _params_error(error: Any) -> ParamsError:
+    """One line for pydantic's first error: the dotted key, the value and what is allowed."""
+    kind, loc, ctx = error["type"], error["loc"], error.get("ctx") or {}
+    if kind == "value_error" and isinstance(ctx.get("error"), ParamsError):  # Params.__post_init__: constraints.py
+        return ctx["error"]
+    key = "".join(f"[{part}]" if isinstance(part, int) else f".{part}" for part in loc).lstrip(".")
+    value = _shown(ctx.get("value", error["input"]))
+    if kind == "missing":
+        return ParamsError(f"{key}: missing; add it to params.yaml")
+    if kind == "unexpected_keyword_argument":
+        allowed = ", ".join(sorted(f.name for f in dataclasses.fields(_section_at(loc[:-1]))))
+        return ParamsError(f"{key}: unknown key; allowed keys here are {allowed}")
+    if kind == "min_exceeds_max":
+        key = f"{key}.{ctx['field']}".lstrip(".")
+        return ParamsError(f"{key} = {value!r} exceeds {ctx['upper']} = {ctx['high']!r}; give min <= max")
+    if kind == "dataclass_type":
+        return ParamsError(f"{key or 'params.yaml'} = {value!r}: expected a mapping of {ctx['class_name']} keys")
+    if kind in ("float_type", "int_type", "bool_type", "string_type") and isinstance(value, dict):
+        return ParamsError(f"{key} = {value!r}: expected {_EXPECTED[kind]}, or a profile mapping with keys "
+                           f"{', '.join(PROFILES)} (unknown: {', '.join(map(str, value))})")
+    what = {"literal_error": f"allowed values are {ctx.get('expected')}", "finite_number": "expected a finite number",
+            **{k: f"expected {words}" for k, words in _EXPECTED.items()}}.get(kind, error["msg"])
+    return ParamsError(f"{key} = {value!r}: {what}")
+
+
+def _section_at(loc: tuple) -> type:
+    """The section class at ``loc`` (a path of field names from the root)."""
+    cls: Any = Params
+    for name in loc:
+        cls = typing.get_type_hints(cls)[name]
+    return cls

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from navlab.core.params.demos import DemosParams
+from navlab.core.params.fields import section
 from navlab.core.params.maps import MapsParams
 
 
-@dataclass(frozen=True)
+@section
 class DataParams:
     maps: MapsParams
     demos: DemosParams

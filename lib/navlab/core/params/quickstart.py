@@ -2,17 +2,16 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Literal
 
-from navlab.core.params.fields import between
+from navlab.core.params.fields import between, section
 
 
-@dataclass(frozen=True)
+@section
 class QuickstartParams:
     city: Literal["helsinki", "kouvola", "monaco"]
-    resolution_m: float = between(0.25, 10.0)
-    queries: int = between(1, 1000)
-    min_distance_m: float = between(1.0)
-    max_distance_m: float = between(1.0)
-    soft_cost: dict[str, float] = between(1.0)  # per soft label: cost multiplier per metre
+    resolution_m: Annotated[float, between(0.25, 10.0)]
+    queries: Annotated[int, between(1, 1000)]
+    min_distance_m: Annotated[float, between(1.0)]
+    max_distance_m: Annotated[float, between(1.0)]
+    soft_cost: Annotated[dict[str, float], between(1.0)]  # per soft label: cost multiplier per metre

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Literal
 
 from navlab.core.params.constraints import cross_section_problems
 from navlab.core.params.data import DataParams
-from navlab.core.params.fields import PROFILES, between
+from navlab.core.params.fields import PROFILES, between, section
 from navlab.core.params.hj import HJParams
 from navlab.core.params.pacer import PacerParams
 from navlab.core.params.quickstart import QuickstartParams
@@ -16,10 +15,10 @@ from navlab.core.params.surenav import SuReNavParams
 __all__ = ["PROFILES", "Params"]
 
 
-@dataclass(frozen=True)
+@section
 class Params:
     profile: Literal["smoke", "default", "gpu", "paper"]
-    seed: int = between(0)
+    seed: Annotated[int, between(0)]
     data: DataParams
     quickstart: QuickstartParams
     surenav: SuReNavParams

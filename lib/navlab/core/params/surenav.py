@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from navlab.core.params.fields import section
 from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.core.params.surenav_demos import SuReNavDemosParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.params.surenav_model import EstimatorParams, PlannerParams, TrainParams
 
 
-@dataclass(frozen=True)
+@section
 class SuReNavParams:
     graph: GraphParams
     benchmark: BenchmarkParams

@@ -30,11 +30,12 @@ from tqdm.auto import tqdm
 
 from navlab.core.params import Params
 from navlab.core.seeding import torch_generator
+from navlab.core.training import descend
 from navlab.maps.dataset import load_maps
 from navlab.pacer.aerial import AerialMap
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.datasets import STREET_SPLIT, PacerDataset, Recipe
-from navlab.pacer.evaluate import stitch_windows
+from navlab.pacer.evaluate import stitch_windows, window_cutter
 from navlab.pacer.preferences import IGNORE, rank_costs
 from navlab.pacer.terrain import TerrainBank
 
@@ -128,11 +129,7 @@ def train_segmenter(params: Params, data_dir, terrains: Terrains, bank: TerrainB
             items = [dataset[i] for i in order[start:start + settings.batch_size]]
             images = torch.stack([it["image"] for it in items])
             targets = _targets(torch.stack([it["labels"] for it in items]), known)
-            loss = F.cross_entropy(model(images), targets, ignore_index=-100)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
-            schedule.step()
+            descend(F.cross_entropy(model(images), targets, ignore_index=-100), optimiser, schedule)
     return model.eval()
 
 
@@ -176,17 +173,14 @@ def segmenter_method(model: TerrainSegmenter, params: Params, *, overlap: int = 
     map's true ordering (the context is ignored), stitched as PACER's costmaps are."""
     data = params.pacer.data
     mask = fov_mask(data.image_size, data.camera.near_width)
-    weight = torch.as_tensor(mask, dtype=torch.float32)
-    window = mask.shape[0]
 
     @torch.no_grad()
     def cost(amap: AerialMap, ordering: np.ndarray, _context, _pairs) -> np.ndarray:
         image = torch.as_tensor(amap.image, dtype=torch.float32)
-        padded = F.pad(image[None], (window, window, window, window), mode="reflect")[0]
+        cut = window_cutter(image, mask)
 
         def window_costs(corners):
-            windows = torch.stack([padded[:, r:r + window, c:c + window] * weight for r, c in corners])
-            return expected_rank_costs(torch.softmax(model(windows), dim=1), model.labels, ordering)
+            return expected_rank_costs(torch.softmax(model(cut(corners)), dim=1), model.labels, ordering)
 
         return stitch_windows(window_costs, tuple(image.shape[1:]), mask, overlap=overlap, batch=batch).numpy()
 

@@ -9,7 +9,6 @@ operator's preference at all (Table II omits it for that reason).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -20,6 +19,7 @@ from tqdm.auto import tqdm
 
 from navlab.core.params.pacer import PacerClassifierParams
 from navlab.core.seeding import torch_generator
+from navlab.core.training import cosine_schedule, descend
 from navlab.pacer.baselines.patches import dense_scores, patch_cnn, sample_patches
 from navlab.pacer.checkpoints import load_network, save_network
 
@@ -69,32 +69,27 @@ def train_classifier(datasets: Sequence[Dataset], cfg: PacerClassifierParams, pa
     """
     torch.manual_seed(seed)
     known = None
-    model = optimiser = None
+    model = optimiser = schedule = None
     val = sample_patches(val_datasets, cfg.val_patches, patch_size, seed, "classifier", "val") if val_datasets else None
     gen = torch_generator(seed, "pacer.classifier.batches")
     best = {"best_epoch": 0, "val_accuracy": None, "epochs": cfg.epochs}
     best_weights = None
     steps = cfg.epochs * -(-cfg.patches_per_epoch // cfg.batch_size)
-    step = 0
     for epoch in tqdm(range(cfg.epochs), desc="classifier", disable=not progress):
         x, labels = sample_patches(datasets, cfg.patches_per_epoch, patch_size, seed, "classifier", epoch)
         if model is None:
             known = sorted(set(labels.tolist()) | (set(val[1].tolist()) if val is not None else set()))
             model = SemanticClassifier(known, cfg.channels, patch_size).to(device)
             optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
+            schedule = cosine_schedule(optimiser, steps, pi_first=True)
         lookup = {lab: k for k, lab in enumerate(known)}
         y = torch.as_tensor([lookup.get(int(v), -100) for v in labels])  # a label first seen later is skipped
         model.train()
         order = torch.randperm(len(x), generator=gen)
         for start in range(0, len(x), cfg.batch_size):
-            for group in optimiser.param_groups:
-                group["lr"] = cfg.lr * 0.5 * (1.0 + math.cos(math.pi * step / steps))
             idx = order[start:start + cfg.batch_size]
-            loss = F.cross_entropy(model(x[idx].to(device)), y[idx].to(device), ignore_index=-100)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
-            step += 1
+            descend(F.cross_entropy(model(x[idx].to(device)), y[idx].to(device), ignore_index=-100), optimiser,
+                    schedule)
         if val is not None:
             accuracy = patch_accuracy(model, *val, device=device)
             if best["val_accuracy"] is None or accuracy > best["val_accuracy"]:

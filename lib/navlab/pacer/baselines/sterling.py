@@ -29,6 +29,7 @@ from tqdm.auto import tqdm
 
 from navlab.core.params.pacer import PacerSterlingParams
 from navlab.core.seeding import torch_generator
+from navlab.core.training import descend
 from navlab.pacer.baselines.patches import context_pairs, dense_scores, patch_cnn, sample_patches
 from navlab.pacer.checkpoints import load_network, save_network
 
@@ -92,10 +93,7 @@ class SterlingEncoder(torch.nn.Module):
         optimiser = torch.optim.Adam(utility.parameters(), lr=lr)
         for _ in range(steps):
             margin = utility(zw / scale) - utility(zb / scale)  # cost(worse) − cost(better), want > 0
-            loss = F.softplus(-margin).mean() + 1e-3 * utility.weight.pow(2).sum()
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
+            descend(F.softplus(-margin).mean() + 1e-3 * utility.weight.pow(2).sum(), optimiser)
         with torch.no_grad():
             utility.weight /= scale
         return utility
@@ -138,10 +136,7 @@ def train_sterling(datasets: Sequence[Dataset], cfg: PacerSterlingParams, patch_
             if len(batch) < 2:
                 continue
             v1, v2 = augment(batch, gen).to(device), augment(batch, gen).to(device)
-            loss = vicreg_loss(model(v1), model(v2), cfg.vicreg_weights)
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
+            descend(vicreg_loss(model(v1), model(v2), cfg.vicreg_weights), optimiser)
     return model.eval()
 
 

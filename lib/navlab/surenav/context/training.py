@@ -21,11 +21,12 @@ and one of training:
   and validation) while the rule Psi its input expresses scores 0.63; blackbox reaches 0.69 on training
   and 0.57 on validation (seed 0; ``benchmarks/README.md``).
 
-The loop is ``train.train_estimator``'s, without its mid-run resume (a run is a few minutes);
-``model.pt`` is kept when its key (code, parameters, samples, seed) matches. Runs (``estimator_runs``):
+The loop is ``train.train_estimator``'s (``core.training.fit``): a checkpoint after every epoch, resumed
+when its key (code, parameters, samples, seed) matches, and ``model.pt`` kept when that key matches. Runs (``estimator_runs``):
 the main (input, gradient) on every ``train.seeds``, the other input and the other gradient each on the
 first ``train.ablation_seeds`` (the ablations that measure what the features and the gradient add), in
-``artifacts/surenav/context_estimators/<input>_<gradient>/seed<k>/`` with ``model.pt`` and ``log.tsv``.
+``artifacts/surenav/context_estimators/<input>_<gradient>/seed<k>/`` with ``model.pt``, ``checkpoint.pt`` and
+``log.tsv``.
 """
 
 from __future__ import annotations
@@ -39,13 +40,14 @@ import numpy as np
 import torch
 
 from navlab.core.fingerprint import code_fingerprint
-from navlab.core.io import DataError, atomic_path, sha256_json
+from navlab.core.io import DataError, sha256_json
 from navlab.core.labels import HARD_IDS, SOFT_IDS
 from navlab.core.params import Params
 from navlab.core.params.surenav_demos import ContextDemosParams, ContextEstimatorParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
+from navlab.core.training import TrainingRun, descend, fit, save_torch
 from navlab.graphs.incremental import update_graph
 from navlab.maps.semantic_map import SemanticMap
 from navlab.sim.semi_static import window_graph
@@ -64,6 +66,7 @@ from navlab.surenav.experts.environments import Demonstration
 from navlab.surenav.train import (
     TRAIN_IOU_STRIDE,
     _write_log,
+    better_iou,
     evaluate,
     plan_batch,
     samples_key,
@@ -121,11 +124,6 @@ def context_samples(artifacts_dir: str | Path, split: str, graph: GraphParams, m
     return out
 
 
-def _save(obj, path: Path) -> None:
-    with atomic_path(path) as tmp:
-        torch.save(obj, tmp)
-
-
 def _schedule(run: EstimatorRun, train: TrainParams, estimator: ContextEstimatorParams) -> TrainParams:
     """``surenav.train`` as the run trains: the paper's schedule for straight-through, the blackbox one's
     epochs and lr without early stopping (its cosine schedule keeps the best validation epoch) for blackbox."""
@@ -155,13 +153,11 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
     model = ContextEstimator(model_params, True, FEATURE_SETS[run.features])
     optimiser = torch.optim.AdamW(model.parameters(), lr=train.lr, weight_decay=train.weight_decay)
     steps = train.epochs * -(-len(train_samples) // train.batch_size)
+    # torch's recursive cosine, not core.training.cosine_schedule: it differs in the last bits, and these
+    # weights were trained with it; its state_dict resumes it exactly
     schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, steps) if run.gradient == "blackbox" else None
-    rows: list[dict] = []
-    best: dict = {"val_iou": -1.0, "epoch": 0, "weights": None}
-    for epoch in range(train.epochs):
-        if train.patience and epoch - best["epoch"] >= train.patience:
-            break
-        model.train()
+
+    def train_epoch(epoch: int) -> dict[str, float]:
         order = rng(seed, "surenav.context.train", epoch).permutation(len(train_samples))
         losses = []
         for lo in range(0, len(order), train.batch_size):
@@ -171,22 +167,18 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
             else:
                 loss = training_loss(*plan_batch(model, chunk, train.temperature), train)
                 value = float(loss.detach())
-            optimiser.zero_grad()
-            loss.backward()
-            optimiser.step()
-            if schedule is not None:
-                schedule.step()
+            descend(loss, optimiser, schedule)
             losses.append(value)
         val_loss, val_iou = evaluate(model, val_samples, train)
         train_iou = evaluate(model, train_samples[::TRAIN_IOU_STRIDE], train)[1]
-        rows.append({"epoch": epoch + 1, "train_loss": float(np.mean(losses)), "val_loss": val_loss,
-                     "val_iou": val_iou, "train_iou": train_iou})
-        if best["weights"] is None or not val_iou <= best["val_iou"]:
-            best = {"val_iou": val_iou, "epoch": epoch + 1,
-                    "weights": {k: w.detach().clone() for k, w in model.state_dict().items()}}
-        _write_log(rows, out_dir / "log.tsv")
-    _save({**architecture(model), "weights": best["weights"], "best_epoch": best["epoch"], "key": key, "seed": seed,
-           "features": run.features, "gradient": run.gradient, "log": rows}, model_path)
+        return {"train_loss": float(np.mean(losses)), "val_loss": val_loss, "val_iou": val_iou, "train_iou": train_iou}
+
+    fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, train.epochs, train.patience,
+                                               f"context estimator {run.folder} seed {seed}", progress=False),
+                 train_epoch, better_iou, scheduler=schedule, on_epoch=lambda rows: _write_log(rows, out_dir / "log.tsv"))
+    save_torch(model_path, {**architecture(model), "weights": model.state_dict(), "best_epoch": fitted.best_epoch,
+                            "key": key, "seed": seed, "features": run.features, "gradient": run.gradient,
+                            "log": fitted.log})
     return model_path
 
 
