@@ -403,3 +403,47 @@ def test_a_frontier_goes_on_once_and_takes_a_total_budget():
     with pytest.raises(ValueError, match="resumed already"):
         resume(frontier, 10**6)
     assert search(spec, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, h, budget=Budget(max_expansions=3)).frontier is None
+
+
+def test_an_upper_bound_makes_ana_star_search_only_for_cheaper_plans():
+    """ANA* given an incumbent cost U (hj.lattice_policy: the plan in force's remaining time) returns, run to
+    the end, the optimal plan if it costs less than U and "no path" otherwise, over random rooms on the snapped
+    lattice, where A* with the admissible Dist heuristic is optimal; with a small budget any plan it returns
+    costs less than U. U = inf is the plain search."""
+    rng = np.random.default_rng(5)
+    compared = {"cheaper": 0, "none": 0}
+    for _ in range(16):
+        discs = tuple(Disc(*rng.uniform((0.6, 0.3), (2.4, 1.7)), rng.uniform(0.1, 0.3)) for _ in range(3))
+        room = Room("random", 3.0, 2.0, obstacles=discs)
+        obs = obs_pruner(room, RADIUS)
+        start = np.array([0.3, rng.uniform(0.3, 1.7), 0.0, rng.uniform(-math.pi, math.pi)])
+        goal = Goal((2.7, float(rng.uniform(0.3, 1.7))), 0.3, 0.25)
+        if obs.values(start[None])[0] <= 0 or obs.goal_clearance(goal) <= 0:
+            continue
+        h = dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance)
+        best = search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs))
+        if not best.found:
+            continue
+        ana = Budget(anytime=True, max_expansions=10**6)
+        plain = search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs), budget=ana)
+        assert _outcome(search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs), budget=ana,
+                               upper_bound=math.inf)) == _outcome(plain)
+        for bound in (best.cost + SPEC.dt, best.cost):  # one step above the optimum, and the optimum itself
+            bounded = search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs), budget=ana,
+                             upper_bound=bound)
+            if bound > best.cost:
+                assert bounded.found and bounded.cost == pytest.approx(best.cost)
+                compared["cheaper"] += 1
+            else:
+                assert bounded.status == "no path"
+                compared["none"] += 1
+            short = search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs),
+                           budget=Budget(anytime=True, max_expansions=50), upper_bound=bound)
+            assert not short.found or short.cost < bound
+    assert compared["cheaper"] >= 8 and compared["none"] >= 8
+    with pytest.raises(ValueError, match="ANA"):
+        search(SPEC, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance),
+               upper_bound=5.0)
+    with pytest.raises(ValueError, match="positive cost"):
+        search(SPEC, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance),
+               budget=Budget(anytime=True), upper_bound=float("nan"))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -416,3 +417,42 @@ def test_brief_training_follows_the_context_on_terrains_it_never_saw(smoke):
         follows += cost[preferred].mean() < cost[~preferred].mean()
         flips += cost_swapped[preferred].mean() > cost_swapped[~preferred].mean()
     assert follows >= 30 and flips >= 30, (follows, flips)
+
+
+def _terrain_keys(terrains: list[int]) -> torch.Tensor:
+    """(1, 2n, 8) keys: one unit vector per terrain id, so patches of a terrain are identical and others orthogonal."""
+    return torch.eye(8)[terrains][None]
+
+
+@pytest.mark.parametrize("pairs, places", [
+    ([(0, 1), (1, 2), (2, 3)], {0: 1.0, 1: 1 / 3, 2: -1 / 3, 3: -1.0}),       # a chain: its order
+    ([(0, 1), (2, 3), (4, 5)], {0: 1.0, 2: 1.0, 4: 1.0, 1: -1.0, 3: -1.0, 5: -1.0}),  # disjoint: the roles
+    ([(0, 1), (0, 2), (3, 0)], {3: 1.0, 0: 1 / 3, 1: -1.0, 2: -1.0}),          # 3 > 0 > {1, 2}
+])
+def test_patch_ranks_place_each_terrain_in_the_order_the_pairs_imply(smoke, pairs, places):
+    """The matcher's order inference: transitive wins and losses over distinct terrains (a Copeland score)
+    give a chain's terrains evenly spaced places, disjoint pairs +1 / -1, and every patch of a terrain the
+    same place; swapping every pair negates the places, reordering the pairs permutes them."""
+    matcher = build_model(smoke.model).matcher
+    with torch.no_grad():
+        matcher.log_same_sharpness.fill_(math.log(100.0))  # crisp identities: exact places
+    preferred, other = zip(*pairs)
+    keys = _terrain_keys([*preferred, *other])
+    with torch.no_grad():
+        ranks = matcher.patch_ranks(keys)[0]
+        swapped = matcher.patch_ranks(_terrain_keys([*other, *preferred]))[0]
+        order = [2, 0, 1]
+        reordered = matcher.patch_ranks(_terrain_keys([preferred[i] for i in order] + [other[i] for i in order]))[0]
+    expected = torch.tensor([places[t] for t in [*preferred, *other]])
+    torch.testing.assert_close(ranks, expected, rtol=0, atol=1e-4)
+    torch.testing.assert_close(swapped, -torch.cat([ranks[3:], ranks[:3]]), rtol=0, atol=1e-4)
+    torch.testing.assert_close(reordered, torch.cat([ranks[:3][order], ranks[3:][order]]), rtol=0, atol=1e-4)
+
+
+def test_patch_ranks_pass_gradients_to_the_patch_features(smoke):
+    """The identities are soft, so the order inference trains the patch features too (a gradient check
+    against finite differences in double precision)."""
+    matcher = build_model(smoke.model).matcher.double()
+    keys = torch.nn.functional.normalize(torch.randn(1, 6, 8, dtype=torch.float64, generator=torch.Generator().manual_seed(0)), dim=2)
+    keys.requires_grad_(True)
+    assert torch.autograd.gradcheck(lambda k: matcher.patch_ranks(k), (keys,))

@@ -21,14 +21,15 @@ def model(smoke_params):
 
 
 def test_cosines_give_back_the_network_s_preference_map(model, smoke_params):
-    """S = sum_j softmax_j(T cos_j) r_j (r = -1 preferred, +1 other): recomputed from ``patch_cosines`` it
+    """S = sum_j softmax_j(T cos_j) r_j (r = -(the patch's implied place)): recomputed from ``patch_cosines`` it
     equals the matcher's own first map, so the diagnostic reads what the costmap reads."""
     n, p = smoke_params.pacer.data.n_pairs, smoke_params.pacer.data.patch_size
     gen = torch.Generator().manual_seed(3)
     image, context = torch.rand(3, 32, 32, generator=gen), torch.rand(3 * n, 2 * p, p, generator=gen)
     cos = patch_cosines(model.matcher, image, context)
     attention = torch.softmax(cos * model.matcher.log_temperature.exp(), dim=0)
-    roles = torch.cat([-torch.ones(n), torch.ones(n)])[:, None, None]
+    with torch.no_grad():
+        roles = -model.matcher.patch_ranks(model.matcher.keys(context[None])[0])[0][:, None, None]
     with torch.no_grad():
         s = model.matcher(image[None], context[None])[0, 0]
     assert cos.shape == (2 * n, *s.shape)

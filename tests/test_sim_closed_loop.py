@@ -22,7 +22,7 @@ from navlab.maps.rooms import load_room
 from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.solver import Backend
 from navlab.reach.store import save_grid
-from navlab.search.lattice_search import NO_HUMAN
+from navlab.search.lattice_search import NO_HUMAN, NO_STATIC, Budget, Goal, Pruners, search
 from navlab.sim.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 
 
@@ -216,11 +216,12 @@ def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
     """The Dense Room's return trip from rest needs ~30,000-55,000 expansions for a first plan. With a budget
     of 20,000 per period and no humans in view, each period resumes the search where the last stopped, however
     small ``rest_periods`` (it caps only re-runs while humans move): the plan that comes is the one a single
-    search given the periods' summed budget finds, and no period spends more than its own budget."""
+    search given the periods' summed budget finds, and no period spends more than its own budget. (The first
+    plan found is taken: ``rest_bound`` inf.)"""
     room = load_room("dense_room")
     at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
     policy = loop.policy(room, "Dist", "OBS")
-    policy.max_expansions, policy.rest_periods = 20000, 1
+    policy.max_expansions, policy.rest_periods, policy.rest_bound = 20000, 1, math.inf
     plans = [policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
     found = [p is not None and len(p) > 0 for p in plans]
     assert not found[0] and any(found), "a plan needs more than one period's budget and comes within four"
@@ -228,6 +229,34 @@ def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
     assert max(policy.expansions) <= 20000 and sum(policy.expansions) > 20000 * (periods - 1)
     once = dataclasses.replace(policy, max_expansions=20000 * periods, expansions=[])
     assert np.array_equal(once(Observation(0.0, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))), plans[periods - 1])
+
+
+def test_a_waiting_car_lets_a_loose_plan_improve_before_it_drives_it(loop):
+    """ANA*'s first plan from rest at B to A (6,000 expansions per period) is a 17 s detour with a proven bound
+    near 3; with ``rest_bound`` 2 the waiting car holds it back and resumes the search until a plan's bound is
+    at most 2 (or ``rest_periods`` have passed since the first solution): it takes a plan that is cheaper, and
+    the same as one search given all the periods' budget."""
+    room = load_room("dense_room")
+    at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
+    taken = {}
+    for bound in (math.inf, 2.0):
+        policy = loop.policy(room, "Dist", "OBS")
+        policy.max_expansions, policy.rest_periods, policy.rest_bound = 6000, 12, bound
+        for k in range(40):
+            plan = policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2))))
+            if plan is not None and len(plan):
+                break
+        taken[bound] = (k + 1, plan, policy)
+    (first_periods, first, _), (periods, improved, policy) = taken[math.inf], taken[2.0]
+    assert periods > first_periods and max(policy.expansions) <= 6000
+    once = dataclasses.replace(policy, max_expansions=6000 * periods, expansions=[], rest_bound=math.inf)
+    result = search(loop.spec, room.bounds, at_b, Goal(goal, policy.goal_tolerance, policy.goal_max_speed),
+                    policy._heuristics[goal], pruners=Pruners(static=policy.static, collision=NO_STATIC,
+                                                              human=NO_HUMAN),
+                    table=policy._table, budget=Budget(anytime=True, max_expansions=6000 * periods))
+    assert np.array_equal(once(Observation(0.0, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))), improved)
+    assert result.solution_bounds[-1] <= 2.0 or result.expansions >= result.solution_expansions[0] + 12 * 6000
+    assert result.cost < result.solution_costs[0] and len(improved) < len(first)
 
 
 def test_with_humans_in_view_a_search_from_rest_is_rerun_for_rest_periods(loop):
@@ -296,3 +325,17 @@ def test_claims_hold_on_the_papers_own_numbers_and_fail_when_reversed():
     assert check_claims("table8_rooms", dense_fail)[0].verdict == "does not hold"
     with pytest.raises(ValueError, match="no closed-loop claims"):
         check_claims("table1_heuristics_astar", [])
+
+
+def test_a_start_inside_the_obs_allowance_falls_back_to_the_safety_controller(loop):
+    """A noisy pose inside the OBS pruner's allowance (clear of the wall, but within radius + 2 pose stds of
+    it) cannot be planned from; the car then takes the no-plan fallback, not blind braking: 3 cm from the
+    Dense Room's second wall, heading 10 degrees into it at 0.7 m/s, braking straight would not stop clear, so
+    it swerves (the one braking step after which braking straight does)."""
+    room = load_room("dense_room")
+    policy = loop.policy(room, "Dist", "OBS", pose_noise_m=0.02)
+    state = np.array([4.47, 3.0, 0.7, -1.38])
+    assert policy.static.values(state[None])[0] <= 0.0 < policy._obs.values(state[None])[0]
+    assert not policy._brakes_clear(state[None])
+    out = policy(Observation(0.0, state, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2))))
+    assert isinstance(out, Evasion) and len(out.commands) == 1 and out.commands[0, 0] < 0.0

@@ -45,7 +45,12 @@ The same re-check keeps the car on its plan when a re-plan finds one that arrive
 ``switch_gain_s``): with 2 cm of pose noise, successive anytime searches return different plans of equal
 cost, and a car switching between them at 12 Hz dithered in the Dense Room (turning on the spot between
 plans that leave in different directions) until its trip deadlocked (measured). A plan that arrives
-sooner, or a current plan that no longer re-checks safe, is replaced as before.
+sooner, or a current plan that no longer re-checks safe, is replaced as before. Since only a plan that
+arrives ``switch_gain_s`` sooner than the one in force would be taken, the re-plan's ANA* is given that
+time as its incumbent cost from the start (``search(..., upper_bound=...)``: nodes that cannot beat it are
+pruned, the rest ordered as after a solution), so its budget goes to finding such a plan rather than to
+first solutions that would be discarded anyway (a moving car's 6,000-expansion re-plans mostly returned
+such plans, bounds 2.5-4.5, and the car drove its first, long plans to the end, measured in the Dense Room).
 
 A start inside the static BRT's pruned set (value <= margin) but clear of the obstacles (clearance >
 robot radius) is planned from, not given up on: the search then prunes at the start's own BRT value
@@ -69,12 +74,21 @@ change, so the search is re-run from the newly observed pose with the expansions
 period's budget, for up to ``rest_periods`` periods (then afresh); its measured wall time is that of the
 whole re-run. A resumed search plans from the pose first observed at rest, which differs from the car's
 only by the pose noise, as every plan's start does.
+
+A waiting car with no humans in view also lets an ANA* plan *improve* before it drives it: a plan whose
+proven bound (ANA*'s G / min f over OPEN, the most it can cost above the optimum) exceeds ``rest_bound``
+is held back and the search resumed, for up to ``rest_periods`` periods after its first solution; then the
+best plan so far is taken. ANA*'s first solution from rest can be a long detour, and a moving car's re-plans
+rarely find any plan within one period, so it kept driving that detour: on the Dense Room's return trip a
+first plan of 24.5 s (bound 4.9) from (5.2, 1.2) drove up to the first wall's gap and back until the trip
+deadlocked, where one more period's search (6,000 expansions) had found 11.0 s (bound 1.7) (measured).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -100,6 +114,15 @@ from navlab.search.lattice_search import (
 from navlab.sim.receding_horizon import Evasion
 
 HUMAN_MODES = ("fi", "fs", "obs", "none")
+
+
+class Planned(NamedTuple):
+    """One period's search: its result, the expansions spent on it in earlier periods, and whether the car
+    takes its plan now (False while a waiting car lets a found plan improve)."""
+
+    result: SearchResult
+    spent: int
+    ready: bool
 
 
 @dataclass(frozen=True)
@@ -129,6 +152,7 @@ class LatticePolicy:
     fi: FIParams = field(default_factory=FIParams)
     anytime: bool = False
     rest_periods: int = 1  # with humans in view, a search from rest is re-run over this many periods (1: never)
+    rest_bound: float = float("inf")  # no humans in view: a waiting car improves an ANA* plan with a larger bound
     reuse: bool = False  # keep the current plan when a re-plan runs out of budget and the plan re-checks safe
     robot_radius: float = 0.285  # m, the kept plan's collision re-check (the QBot's 570 mm base)
     human_prediction_s: float = 0.0  # "fi"/"fs": humans predicted along their observed velocity this far (0: frozen)
@@ -146,6 +170,9 @@ class LatticePolicy:
     def __post_init__(self):
         if not (isinstance(self.rest_periods, int) and self.rest_periods >= 1):
             raise ValueError(f"rest_periods must be an integer >= 1, got {self.rest_periods!r}")
+        if not self.rest_bound >= 1.0:
+            raise ValueError(f"rest_bound must be >= 1 (a suboptimality bound; inf: take the first plan), "
+                             f"got {self.rest_bound!r}")
         if self.human_mode not in HUMAN_MODES:
             raise ValueError(f"human_mode {self.human_mode!r}: use one of {', '.join(HUMAN_MODES)}")
         if self.human_mode in ("fi", "fs") and self.human_brt is None:
@@ -191,8 +218,11 @@ class LatticePolicy:
             # refused its start with an error (a Table VIII sweep point, measured)
             clear = float(self._obs.values(state[None])[0]) > 0.0
             if static.name != "BRT" or not clear:
-                self._carried = self._current = None
-                return np.zeros((0, 2))
+                # no plan from here: the fallback below (brake straight only where that stops clear of the
+                # walls); blind braking took a Dist + OBS car whose noisy pose fell inside the OBS allowance
+                # 4 cm from a wall, heading 10 degrees into it at 0.7 m/s, into that wall (measured)
+                self._carried = None
+                return self._fallback(state, observation)
             # prune at the start's own value: plans that get no closer than the car is
             static = static.with_threshold(static.par[0] + start_value - 1e-3)
         goal = tuple(observation.goal)
@@ -202,36 +232,51 @@ class LatticePolicy:
         velocities = np.asarray(observation.human_velocities, dtype=float).reshape(-1, 2)
         if self.human_mode in ("fi", "fs") and len(humans):
             human = human_pruner(self.human_brt, humans, self.human_mode, self.fi, velocities, self.human_prediction_s)
-        waiting = state[2] == 0.0 and not 0.0 < self._remaining_s(observation) < np.inf  # at rest, no plan in force
-        result, spent = self._plan(state, goal, Pruners(static=static, collision=self._collision(static), human=human),
-                                   moving=self.human_mode != "none" and len(humans) > 0, waiting=waiting)
+        remaining = self._remaining_s(observation)
+        waiting = state[2] == 0.0 and not 0.0 < remaining < np.inf  # at rest, no plan in force
+        # a plan in force that still re-checks safe is kept unless a new one arrives switch_gain_s sooner, so
+        # ANA* searches only for such plans: the kept plan's time is its incumbent cost from the start
+        keepable = self.reuse and 0.0 < remaining < np.inf and self._still_safe(observation, static, human)
+        bound = remaining - self.switch_gain_s if keepable and self.anytime else np.inf
+        if bound <= 0.0:  # no plan can arrive that much sooner
+            self.expansions.append(0)
+            return None
+        result, spent, ready = self._plan(state, goal, Pruners(static=static, collision=self._collision(static),
+                                                                human=human),
+                                          moving=self.human_mode != "none" and len(humans) > 0, waiting=waiting,
+                                          upper_bound=bound)
         self.expansions.append(result.expansions - spent)  # this period's share
-        if result.found:
-            if (self.reuse and self._remaining_s(observation) <= result.cost + self.switch_gain_s
-                    and self._still_safe(observation, static, human)):
+        if ready:
+            if keepable and remaining <= result.cost + self.switch_gain_s:
                 return None  # the plan in force arrives no later: keep it
             self._current = (goal, float(observation.time), result.controls)
             return result.controls
-        if self.reuse and result.status == "expansion limit" and self._still_safe(observation, static, human):
-            return None
+        if keepable and (result.status == "expansion limit" or np.isfinite(bound)):
+            return None  # out of budget, or (bounded) no plan arrives sooner: keep the plan in force
         if human.kind != NO_HUMAN.kind:
             self._current = None
             return self._evade(state, humans, velocities)
+        return self._fallback(state, observation)
+
+    def _fallback(self, state: np.ndarray, observation) -> np.ndarray | Evasion | None:
+        """No new plan and none kept: brake straight, or swerve (``_stop``); where neither stops clear, the plan
+        in force, checked clear where it was issued, is the least bad."""
         stop = self._stop(state)
         if stop is None and self.reuse and 0.0 < self._remaining_s(observation) < np.inf:
-            return None  # nothing stops clear: the plan in force, checked clear where it was issued, is the least bad
+            return None
         self._current = None
         return np.zeros((0, 2)) if stop is None else stop
 
-    def _plan(self, state: np.ndarray, goal: tuple, pruners: Pruners, *, moving: bool,
-              waiting: bool) -> tuple[SearchResult, int]:
+    def _plan(self, state: np.ndarray, goal: tuple, pruners: Pruners, *, moving: bool, waiting: bool,
+              upper_bound: float = np.inf) -> Planned:
         """This period's search and the expansions spent on it before this period. A car ``waiting`` (at rest
         with no plan in force) for a plan to the same goal goes on with its search: resumed where it stopped
         in a static world (no humans in view: nothing it pruned has changed, and the car has not moved),
         re-run with one more period's budget while humans move (for up to ``rest_periods`` periods), since
         their predictions changed. A car at rest that follows a plan (turning on the spot) searches afresh
         from where it now is: a search begun at an earlier heading would plan from a pose it has left
-        (resumed there, the Dense Room's car dithered between plans from stale headings, measured)."""
+        (resumed there, the Dense Room's car dithered between plans from stale headings, measured). A waiting car
+        in a static world holds back a found plan while ``_improves`` says its search should go on."""
         carried = self._carried if waiting and self._carried is not None and self._carried[0] == goal else None
         self._carried = None
         if carried is not None and carried[2] is not None and not moving:
@@ -242,11 +287,21 @@ class LatticePolicy:
             result = search(self.spec, self.room.bounds, state, Goal(goal, self.goal_tolerance, self.goal_max_speed),
                             self._heuristics[goal], pruners=pruners, table=self._table,
                             budget=Budget(anytime=self.anytime, max_expansions=spent + self.max_expansions),
-                            keep_frontier=waiting and not moving)
+                            keep_frontier=waiting and not moving, upper_bound=upper_bound)
+        if waiting and not moving and result.found and self._improves(result):
+            self._carried = (goal, result.expansions, result.frontier)
+            return Planned(result, spent, False)
         if waiting and not result.found and result.status == "expansion limit" and (
                 not moving or result.expansions < self.rest_periods * self.max_expansions):
             self._carried = (goal, result.expansions, result.frontier)
-        return result, spent
+        return Planned(result, spent, result.found)
+
+    def _improves(self, found: SearchResult) -> bool:
+        """Whether a waiting car lets this found ANA* plan improve another period: the search stopped at its
+        limit (OPEN left, so ``resume`` can go on), the plan's proven bound exceeds ``rest_bound``, and fewer
+        than ``rest_periods`` periods' budget has gone into improving it since the first solution."""
+        return (self.anytime and found.frontier is not None and found.solution_bounds[-1] > self.rest_bound
+                and found.expansions < found.solution_expansions[0] + self.rest_periods * self.max_expansions)
 
     def _collision(self, static: StaticPruner) -> StaticPruner:
         """The search's swept collision check: an OBS static pruner is one; a BRT one gets ``_obs``."""

@@ -82,11 +82,14 @@ class ClosedLoop:
         """The loop's rules beyond the paper's text (hj.lattice_policy, sim.receding_horizon), for the reports."""
         c = self.d.closed_loop
         keep = (f"a re-plan out of budget keeps the car's current plan if its next 2 s re-check collision-free (and pass "
-                f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner"
+                f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner "
+                f"(ANA* then searches only for plans that arrive that much sooner: the plan in force is its incumbent)"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
         return (f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
                 f"while it waits (resumed with no humans in view; re-run for up to {c.rest_periods} period(s) while "
-                f"humans move); without a plan the car brakes straight where "
+                f"humans move), and with no humans in view holds back an ANA* plan whose proven bound exceeds "
+                f"{c.rest_bound:g} while its search improves it, for up to {c.rest_periods} period(s) after the first "
+                f"solution; without a plan the car brakes straight where "
                 f"that stops clear of the walls, else swerves (the one step after which braking does), else keeps the "
                 f"plan in force; a start inside the static BRT's margin but clear "
                 f"of obstacles is planned from with the pruning threshold at its own value. Plans start from the "
@@ -133,7 +136,7 @@ class ClosedLoop:
                              human_mode, self._human_brt if human_mode in ("fi", "fs") else None,
                              self.params.hj.grids.human.radius_m, self.fi,
                              anytime=self.d.closed_loop.algorithm == "ANA*",
-                             rest_periods=self.d.closed_loop.rest_periods,
+                             rest_periods=self.d.closed_loop.rest_periods, rest_bound=self.d.closed_loop.rest_bound,
                              reuse=self.d.closed_loop.reuse_plan,
                              switch_gain_s=self.d.closed_loop.plan_switch_gain_s, robot_radius=self.robot.radius_m,
                              human_prediction_s=self.d.closed_loop.human_prediction_s)

@@ -21,7 +21,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import torch
-from torch.nn import functional as F
 
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
@@ -38,15 +37,8 @@ def patch_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     """(2n, h, w): cosine of every image cell (stride ``2 ** len(match_channels)``) with each of the context's
     2n patches (the n preferred first, then the n others), as the matcher computes them; image (3, H, W),
     context (3n, 2p, p)."""
-    c = matcher.colour_channels
-    half = context.shape[1] // 2
-    patches = torch.cat([context[None, :, :half], context[None, :, half:]], dim=1).reshape(-1, c, half, half)
-    keys = matcher.embed(patches).mean(dim=(2, 3))
-    centre = keys.mean(dim=0)
-    keys = F.normalize(keys - centre, dim=1)
-    feats = F.avg_pool2d(matcher.embed(image[None]), 3, stride=1, padding=1, count_include_pad=False)[0]
-    feats = F.normalize(feats - centre[:, None, None], dim=0)
-    return torch.einsum("kd,dhw->khw", keys, feats)
+    keys, centre = matcher.keys(context[None])
+    return matcher.cosines(image[None], keys, centre)[0]
 
 
 def recognition(cosines: np.ndarray, labels: np.ndarray, patch_terrains: np.ndarray) -> tuple[float, float] | None:

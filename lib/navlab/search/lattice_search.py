@@ -606,7 +606,7 @@ def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
 
 def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *, pruners: Pruners = NO_PRUNERS,
            costmap: Costmap = Costmap(), budget: Budget = A_STAR, table: np.ndarray | None = None,
-           keep_frontier: bool = False) -> SearchResult:
+           keep_frontier: bool = False, upper_bound: float = math.inf) -> SearchResult:
     """Plan from ``start`` (x, y, v, θ) to ``goal`` over the lattice inside ``bounds`` ((0, W), (0, H)),
     pruning with ``pruners`` and stopping by ``budget`` (A* or ANA*).
 
@@ -614,7 +614,15 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
     returned first control carries their adjusted acceleration), every later step the level table.
     ``keep_frontier``: a search stopped at its expansion or time limit keeps its OPEN list and nodes in the
     result's ``frontier``, for ``resume``.
+    ``upper_bound`` (ANA* only): the cost of a plan already in hand, ANA*'s incumbent G from the start: only
+    strictly cheaper plans are searched for (nodes with g + h >= G are pruned, the rest ordered by
+    e = (G - g) / h, as after a solution), so the budget goes to improving on it; "no path" then means
+    none cheaper exists (with an admissible heuristic).
     """
+    if not (upper_bound > 0.0):
+        raise ValueError(f"upper_bound must be a positive cost (inf: none), got {upper_bound!r}")
+    if math.isfinite(upper_bound) and not budget.anytime:
+        raise ValueError("upper_bound prunes ANA*'s search only; pass budget=Budget(anytime=True, ...)")
     static, collision, human = pruners
     start = np.asarray(start, np.float64)
     if start.shape != (4,) or not np.isfinite(start).all():
@@ -642,7 +650,9 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
                (collision.kind, collision.field, collision.lower, collision.par),
                (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
               (costmap.field is not None, cf, float(costmap.weight)))
-    frontier = Frontier(spec, costmap, root_controls, budget, inputs, _fresh_state(int(np.prod(dims))))
+    state = _fresh_state(int(np.prod(dims)))
+    state[-1][0] = upper_bound  # G, ANA*'s incumbent cost
+    frontier = Frontier(spec, costmap, root_controls, budget, inputs, state)
     return _go_on(frontier, int(budget.max_expansions), keep_frontier)
 
 

@@ -23,6 +23,7 @@ class ClosedLoopParams:
     algorithm: Literal["A*", "ANA*"]  # the paper's robot runs ANA* (Sec. VIII)
     max_expansions: Annotated[int, between(1)]  # per re-plan: deterministic, so a seeded run gives the same numbers
     rest_periods: Annotated[int, between(1, 1000)]  # humans in view: a waiting car re-runs its search over this many periods (hj.lattice_policy)
+    rest_bound: Annotated[float, between(1.0, 1e9)]  # none in view: a waiting car improves an ANA* plan with a larger bound
     reuse_plan: bool  # a re-plan out of budget keeps the car's plan when it re-checks safe (hj.lattice_policy)
     plan_switch_gain_s: Annotated[float, between(0.0, 60.0)]  # with reuse_plan: a new plan must arrive this much sooner
     pose_allowance_sigmas: Annotated[float, between(0.0, 10.0)]  # static pruners' threshold raised by this x pose noise std
