@@ -46,8 +46,8 @@ The same re-check keeps the car on its plan when a re-plan finds one that arrive
 cost, and a car switching between them at 12 Hz dithered in the Dense Room (turning on the spot between
 plans that leave in different directions) until its trip deadlocked (measured). A plan that arrives
 sooner, or a current plan that no longer re-checks safe, is replaced as before. Since only a plan that
-arrives ``switch_gain_s`` sooner than the one in force would be taken, the re-plan's ANA* is given that
-time as its incumbent cost from the start (``search(..., upper_bound=...)``: nodes that cannot beat it are
+arrives ``switch_gain_s`` sooner than the one in force would be taken, the re-plan's ANA* with no humans in
+view is given that time as its incumbent cost from the start (``search(..., upper_bound=...)``: nodes that cannot beat it are
 pruned, the rest ordered as after a solution), so its budget goes to finding such a plan rather than to
 first solutions that would be discarded anyway (a moving car's 6,000-expansion re-plans mostly returned
 such plans, bounds 2.5-4.5, and the car drove its first, long plans to the end, measured in the Dense Room).
@@ -235,16 +235,18 @@ class LatticePolicy:
         remaining = self._remaining_s(observation)
         waiting = state[2] == 0.0 and not 0.0 < remaining < np.inf  # at rest, no plan in force
         # a plan in force that still re-checks safe is kept unless a new one arrives switch_gain_s sooner, so
-        # ANA* searches only for such plans: the kept plan's time is its incumbent cost from the start
+        # ANA* searches only for such plans: the kept plan's time is its incumbent cost from the start. Not
+        # while humans move: there a search that finds no plan at all is the signal to evade, which a bounded
+        # search ("none sooner") cannot give (bounded there, FS-BRT's Zig-Zag contacts rose, measured)
+        moving = self.human_mode != "none" and len(humans) > 0
         keepable = self.reuse and 0.0 < remaining < np.inf and self._still_safe(observation, static, human)
-        bound = remaining - self.switch_gain_s if keepable and self.anytime else np.inf
+        bound = remaining - self.switch_gain_s if keepable and self.anytime and not moving else np.inf
         if bound <= 0.0:  # no plan can arrive that much sooner
             self.expansions.append(0)
             return None
         result, spent, ready = self._plan(state, goal, Pruners(static=static, collision=self._collision(static),
                                                                 human=human),
-                                          moving=self.human_mode != "none" and len(humans) > 0, waiting=waiting,
-                                          upper_bound=bound)
+                                          moving=moving, waiting=waiting, upper_bound=bound)
         self.expansions.append(result.expansions - spent)  # this period's share
         if ready:
             if keepable and remaining <= result.cost + self.switch_gain_s:

@@ -83,7 +83,8 @@ class ClosedLoop:
         c = self.d.closed_loop
         keep = (f"a re-plan out of budget keeps the car's current plan if its next 2 s re-check collision-free (and pass "
                 f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner "
-                f"(ANA* then searches only for plans that arrive that much sooner: the plan in force is its incumbent)"
+                f"(with no humans in view ANA* then searches only for plans that arrive that much sooner: the plan in force "
+                f"is its incumbent)"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
         return (f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
                 f"while it waits (resumed with no humans in view; re-run for up to {c.rest_periods} period(s) while "
