@@ -355,6 +355,19 @@ def _outcome(result):
             result.controls.tolist(), result.solution_expansions, result.solution_costs, result.solution_bounds)
 
 
+def _random_tasks(rng: np.random.Generator, draws: int):
+    """Of ``draws`` random 3 x 2 m rooms (three discs), start and goal, those with both clear of the discs:
+    (room, its OBS pruner, start, goal)."""
+    for _ in range(draws):
+        discs = tuple(Disc(*rng.uniform((0.6, 0.3), (2.4, 1.7)), rng.uniform(0.1, 0.3)) for _ in range(3))
+        room = Room("random", 3.0, 2.0, obstacles=discs)
+        obs = obs_pruner(room, RADIUS)
+        start = np.array([0.3, rng.uniform(0.3, 1.7), 0.0, rng.uniform(-math.pi, math.pi)])
+        goal = Goal((2.7, float(rng.uniform(0.3, 1.7))), 0.3, 0.25)
+        if obs.values(start[None])[0] > 0 and obs.goal_clearance(goal) > 0:
+            yield room, obs, start, goal
+
+
 @pytest.mark.parametrize("anytime", [False, True])
 def test_a_resumed_search_is_the_search_given_the_whole_budget_at_once(anytime):
     """A car at rest resumes its search each re-plan period (hj.lattice_policy): stopping at a limit and going
@@ -365,14 +378,7 @@ def test_a_resumed_search_is_the_search_given_the_whole_budget_at_once(anytime):
     rng = np.random.default_rng(11)
     spec = dataclasses.replace(SPEC, snap_states=False)
     compared = 0
-    for _ in range(12):
-        discs = tuple(Disc(*rng.uniform((0.6, 0.3), (2.4, 1.7)), rng.uniform(0.1, 0.3)) for _ in range(3))
-        room = Room("random", 3.0, 2.0, obstacles=discs)
-        obs = obs_pruner(room, RADIUS)
-        start = np.array([0.3, rng.uniform(0.3, 1.7), 0.0, rng.uniform(-math.pi, math.pi)])
-        goal = Goal((2.7, float(rng.uniform(0.3, 1.7))), 0.3, 0.25)
-        if obs.values(start[None])[0] <= 0 or obs.goal_clearance(goal) <= 0:
-            continue
+    for room, obs, start, goal in _random_tasks(rng, 12):
         h = dist_heuristic(goal.xy, spec.v_max, goal.tolerance)
         whole = search(spec, room.bounds, start, goal, h, pruners=Pruners(static=obs),
                        budget=Budget(anytime=anytime, max_expansions=400))
@@ -412,14 +418,7 @@ def test_an_upper_bound_makes_ana_star_search_only_for_cheaper_plans():
     costs less than U. U = inf is the plain search."""
     rng = np.random.default_rng(5)
     compared = {"cheaper": 0, "none": 0}
-    for _ in range(16):
-        discs = tuple(Disc(*rng.uniform((0.6, 0.3), (2.4, 1.7)), rng.uniform(0.1, 0.3)) for _ in range(3))
-        room = Room("random", 3.0, 2.0, obstacles=discs)
-        obs = obs_pruner(room, RADIUS)
-        start = np.array([0.3, rng.uniform(0.3, 1.7), 0.0, rng.uniform(-math.pi, math.pi)])
-        goal = Goal((2.7, float(rng.uniform(0.3, 1.7))), 0.3, 0.25)
-        if obs.values(start[None])[0] <= 0 or obs.goal_clearance(goal) <= 0:
-            continue
+    for room, obs, start, goal in _random_tasks(rng, 16):
         h = dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance)
         best = search(SPEC, room.bounds, start, goal, h, pruners=Pruners(static=obs))
         if not best.found:
