@@ -23,7 +23,7 @@ from __future__ import annotations
 import copy
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numba
@@ -547,8 +547,9 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             (g, best, st, parent, prim, cell, hval, tn, heap_k, heap_g, heap_c, sol_i, sol_f, counts, reals))
 
 
-def _fresh_state(n_cells: int) -> tuple:
-    """An empty search: no g per cell, room for 2^14 nodes and OPEN entries (both grow), no solutions."""
+def _fresh_state(n_cells: int, incumbent: float = math.inf) -> tuple:
+    """An empty search: no g per cell, room for 2^14 nodes and OPEN entries (both grow), no solutions, and
+    ANA*'s incumbent cost G (``search``'s ``upper_bound``)."""
     cap = 1 << 14
     return (np.full(n_cells, np.inf), np.full(n_cells, -1, np.int64),
             np.empty((cap, 4)), np.empty(cap, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int64),
@@ -556,7 +557,7 @@ def _fresh_state(n_cells: int) -> tuple:
             np.empty(cap), np.empty(cap), np.empty(cap, np.int64),  # OPEN: keys, g, nodes
             np.zeros(MAX_SOLUTIONS, np.int64), np.zeros((MAX_SOLUTIONS, 3)),  # expansions; seconds, cost, bound
             np.array([0, 0, 0, 0, 0, 0, -1], np.int64),  # nodes, OPEN, solutions, expansions, h, pruner evals, goal
-            np.array([np.inf, 0.0]))  # G (ANA*'s incumbent cost), seconds spent
+            np.array([incumbent, 0.0]))  # G (ANA*'s incumbent cost), seconds spent
 
 
 def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
@@ -650,9 +651,7 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
                (collision.kind, collision.field, collision.lower, collision.par),
                (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
               (costmap.field is not None, cf, float(costmap.weight)))
-    state = _fresh_state(int(np.prod(dims)))
-    state[-1][0] = upper_bound  # G, ANA*'s incumbent cost
-    frontier = Frontier(spec, costmap, root_controls, budget, inputs, state)
+    frontier = Frontier(spec, costmap, root_controls, budget, inputs, _fresh_state(int(np.prod(dims)), upper_bound))
     return _go_on(frontier, int(budget.max_expansions), keep_frontier)
 
 
@@ -708,8 +707,7 @@ def _go_on(frontier: Frontier, max_expansions: int, keep: bool) -> SearchResult:
         heuristic_evals=int(counts[4]), pruner_evals=int(counts[5]),
         solution_expansions=[int(e) for e in sol_i[:n_sol]], solution_seconds=[float(t) for t in sol_f[:n_sol, 0]],
         solution_costs=[float(c) for c in sol_f[:n_sol, 1]], solution_bounds=[float(b) for b in sol_f[:n_sol, 2]],
-        frontier=Frontier(spec, costmap, frontier.root_controls, budget, frontier.inputs, state)
-        if keep and stopped else None)
+        frontier=replace(frontier, state=state) if keep and stopped else None)
 
 
 def zero_heuristic() -> Heuristic:
