@@ -388,6 +388,22 @@ _CANVAS_DIGEST_JS = """() => {
 }"""
 
 
+def wait_for_canvas(page: Page) -> None:
+    """The playground's ipympl canvas drawn, with its cell scrolled into view first, as a reader scrolls up
+    to it after Run All (which leaves the page at the last figure): JupyterLab skips laying out cells out of
+    view (windowing mode ``contentVisibility``), so a widget there may wait for the scroll to render. If it
+    never renders, the failure says what the widget's cell shows (e.g. "Error displaying widget")."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    cell = page.locator(".jp-Notebook .jp-CodeCell", has_text="view.widget").first
+    try:
+        cell.scroll_into_view_if_needed(timeout=60_000)
+        page.wait_for_function(f"() => ({_CANVAS_DIGEST_JS})() !== null", timeout=120_000)
+    except PlaywrightTimeout as error:
+        shown = cell.locator(".jp-OutputArea").inner_text(timeout=5_000) if cell.count() else "(no such cell)"
+        raise AssertionError(f"the playground's canvas was never drawn; its cell shows: {shown[:500]!r}") from error
+
+
 def click_room(page: Page, x: float, y: float) -> str:
     """A real click on the HJ playground's left panel at room position (x, y) m (the panel's box is
     ``AXES[0]`` of the figure, the room 9.6 × 5.4 m); waits for the redrawn canvas and the idle kernel."""
@@ -421,7 +437,7 @@ def test_hj_playground_answers_clicks(browser, lab):
 
     def interact(page: Page, run: LabRun) -> None:
         check_clean(run)
-        page.wait_for_function(f"() => ({_CANVAS_DIGEST_JS})() !== null", timeout=60_000)
+        wait_for_canvas(page)
         seen.append(page.evaluate(_CANVAS_DIGEST_JS))
         for mode, (x, y) in (("goal", (8.0, 1.6)), ("start", (1.0, 1.0)), ("human", (6.0, 1.2))):
             page.locator(".navlab-mode button", has_text=mode).first.click()
