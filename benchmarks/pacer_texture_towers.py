@@ -1,0 +1,231 @@
+"""Which texture features let a context patch find its terrain on the evaluation maps? (issue 24)
+
+Why: PACER's costs follow its texture matcher (``pacer.recognition``), and the matcher's nearest context
+patch is right for about 0.78 of seen-map cells; split by where the cell lies, it is right for ~0.93 of
+cells whose 9 x 9-pixel neighbourhood is one terrain but ~0.62 of the rest, and on the street-window maps
+about half of all cells lie within 4 px of another terrain (sidewalks, strips, kerbs). The matcher's tower
+pools twice (stride 4, then a 3 x 3 mean): a 1-3 px strip's features are mostly its neighbours'.
+
+This trains texture towers outside PACER with one objective, a per-pixel prototypical matching loss (each
+pixel's softmax over the context's 2n patch keys, -log of the mass on the patches of its own terrain, which
+the training items know), on D_synthetic items of which half are SuReNav training-split street windows, and
+scores each on the tables' own maps with one read-out that isolates recognition: every pixel takes the
+terrain of its most similar context patch, costed at that terrain's mean rank over the orderings the
+context's pairs allow (the context-limited oracle's rule, so that oracle, with perfect recognition, is this
+read-out's ceiling). Towers:
+
+* ``pooled``: the matcher's own architecture (``TextureMatcher``: conv pairs, 2 x 2 mean pool per stage,
+  3 x 3 local mean, cosines upsampled);
+* ``dilated``: the same convolutions without pooling, dilations 1, 2, 4 (receptive field 29 px, stride 1);
+* ``committed``: the committed phase-3 model's matcher as it is (no training here).
+
+Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
+preference, the low-tier share with the share of the uniform-to-window-oracle gap closed (bootstrap 95%
+interval over maps, ``claims.gap_closed``). Needs ``data/`` and ``artifacts/pacer/phase3`` (`dvc repro`);
+~12 min per trained tower (2,000 steps of 16 items) on one thread.
+
+    .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+from scipy import ndimage
+from torch import nn
+from torch.nn import functional as F
+from torch.utils.data import DataLoader
+
+from navlab.core.params import load_params
+from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.claims import gap_closed
+from navlab.pacer.datasets import pacer_dataset
+from navlab.pacer.experiments import (
+    context_limited_oracle_method,
+    map_context,
+    navigation_rows,
+    uniform_method,
+    window_oracle_method,
+)
+from navlab.pacer.preferences import mean_consistent_ranks
+from navlab.pacer.terrain import load_terrain_bank
+from navlab.pacer.train import load_model
+
+ROOT = Path(__file__).resolve().parents[1]
+INTERIOR_PX = 9  # a cell is interior when its 9 x 9-pixel neighbourhood shows one terrain
+
+
+class Tower(nn.Module):
+    """Texture features for image pixels and context patches, compared by centred cosine (as the matcher)."""
+
+    def __init__(self, dilated: bool, channels: tuple[int, ...] = (16, 32, 32)):
+        super().__init__()
+        layers, c = [], 3
+        stages = zip(channels, (1, 2, 4)) if dilated else zip(channels[:2], (1, 1))
+        for width, d in stages:
+            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(),
+                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU()]
+            if not dilated:
+                layers.append(nn.AvgPool2d(2))
+            c = width
+        self.features, self.project = nn.Sequential(*layers), nn.Conv2d(c, c, 1)
+        self.log_temperature = nn.Parameter(torch.tensor(2.3))
+        self.dilated = dilated
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        return self.project(self.features(x - 0.5))
+
+    def cosines(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        """(B, 2n, H, W): every pixel's cosine with each context patch (preferred patches first)."""
+        b, n, h = context.shape[0], context.shape[1] // 3, context.shape[2] // 2
+        patches = torch.cat([context[:, :, :h], context[:, :, h:]], 1).reshape(b * 2 * n, 3, h, -1)
+        keys = self.embed(patches).mean((2, 3)).reshape(b, 2 * n, -1)
+        centre = keys.mean(1)
+        keys = F.normalize(keys - centre[:, None], dim=2)
+        feats = self.embed(image)
+        if not self.dilated:
+            feats = F.avg_pool2d(feats, 3, 1, 1, count_include_pad=False)
+        cos = torch.einsum("bkd,bdhw->bkhw", keys, F.normalize(feats - centre[:, :, None, None], dim=1))
+        return cos if self.dilated else F.interpolate(cos, size=image.shape[-2:], mode="bilinear",
+                                                      align_corners=False)
+
+
+class CommittedMatcher(nn.Module):
+    """The committed phase-3 model's ``TextureMatcher``, with the tower's interface."""
+
+    def __init__(self, matcher: nn.Module):
+        super().__init__()
+        self.matcher = matcher
+
+    def cosines(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        keys, centre = self.matcher.keys(context)
+        cos = self.matcher.cosines(image, keys, centre)
+        return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
+
+
+def matching_loss(cos: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
+                  patch_terrains: torch.Tensor) -> torch.Tensor:
+    """Mean over pixels whose terrain the context shows of -log(softmax mass on that terrain's patches)."""
+    log_p = torch.log_softmax(cos * temperature, dim=1)
+    own = patch_terrains[:, :, None, None] == labels[:, None]
+    shown = own.any(dim=1)
+    return -torch.logsumexp(log_p.masked_fill(~own, -torch.inf), dim=1)[shown].mean()
+
+
+def train_tower(tower: Tower, params, bank, steps: int, seed: int) -> list[float]:
+    data = params.pacer.data
+    data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.5))
+    items = pacer_dataset(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data)),
+                          ROOT / "data", "synthetic", "train", bank=bank)
+    optimiser = torch.optim.Adam(tower.parameters(), lr=2e-3)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, steps)
+    losses, step, epoch = [], 0, 0
+    while step < steps:
+        items.set_epoch(epoch)
+        loader = DataLoader(items, batch_size=16, shuffle=True, generator=torch.Generator().manual_seed(seed + epoch))
+        for batch in loader:
+            pairs = batch["pairs"]
+            loss = matching_loss(tower.cosines(batch["image"], batch["context"]), tower.log_temperature.exp(),
+                                 batch["labels"], torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1))
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+            schedule.step()
+            losses.append(loss.item())
+            step += 1
+            if step % 250 == 0:
+                print(f"  step {step}: matching loss {np.mean(losses[-250:]):.3f}", flush=True)
+            if step == steps:
+                break
+        epoch += 1
+    return losses
+
+
+def nearest_terrain(tower: nn.Module, amap, context: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    with torch.no_grad():
+        cos = tower.cosines(torch.as_tensor(amap.image)[None], torch.as_tensor(context)[None])[0]
+    return np.concatenate([pairs[:, 0], pairs[:, 1]])[cos.argmax(0).numpy()]
+
+
+def read_out(tower: nn.Module):
+    """A ``pacer.experiments.Method``: each pixel costs its nearest patch's terrain's mean consistent rank."""
+    def cost(amap, _ordering, context, pairs):
+        terrains = np.unique(pairs)
+        ranks = mean_consistent_ranks(terrains, pairs) / max(len(terrains) - 1, 1)
+        found = nearest_terrain(tower, amap, context, pairs)
+        return ranks[np.searchsorted(terrains, found)].astype(np.float32)
+    return cost
+
+
+def recognition(tower: nn.Module, maps, bank, data, seed: int) -> dict[str, float]:
+    rates = {"all": [], "interior": [], "boundary": []}
+    for index, amap in enumerate(maps):
+        _, context, pairs = map_context(bank, data, amap, "realistic", True, seed, index)
+        right = nearest_terrain(tower, amap, context, pairs) == amap.labels
+        named = np.isin(amap.labels, pairs)
+        inner = ndimage.minimum_filter(amap.labels, INTERIOR_PX) == ndimage.maximum_filter(amap.labels, INTERIOR_PX)
+        for key, where in (("all", named), ("interior", named & inner), ("boundary", named & ~inner)):
+            rates[key].append(float(right[where].mean()))
+    return {key: float(np.mean(v)) for key, v in rates.items()} | {"boundary_cells": float(
+        np.mean([1 - (ndimage.minimum_filter(a.labels, INTERIOR_PX) == ndimage.maximum_filter(a.labels, INTERIOR_PX)).mean()
+                 for a in maps]))}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
+                        choices=["committed", "pooled", "dilated"])
+    parser.add_argument("--steps", type=int, default=2000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--out", type=Path, default=None, help="also write the results as JSON here")
+    args = parser.parse_args()
+    torch.set_num_threads(args.threads)
+    params = load_params("default")
+    P = params.pacer
+    bank = load_terrain_bank(ROOT / "data", P.data)
+    maps = {group: aerial_maps(params, ROOT / "data", group, bank) for group in ("seen", "unseen")}
+    found = []
+    for name in args.towers:
+        started = time.time()
+        torch.manual_seed(args.seed)
+        if name == "committed":
+            tower = CommittedMatcher(load_model(ROOT / "artifacts" / "pacer" / "phase3" / "model.pt", "cpu").matcher)
+            losses = []
+        else:
+            tower = Tower(dilated=name == "dilated")
+            print(f"{name}: training {args.steps} steps", flush=True)
+            losses = train_tower(tower, params, bank, args.steps, args.seed)
+        tower.eval()
+        trained = time.time() - started
+        for group, group_maps in maps.items():
+            rates = recognition(tower, group_maps, bank, P.data, P.seed)
+            print(f"{name} / {group}: nearest-patch terrain right for {rates['all']:.3f} of named pixels "
+                  f"(interior {rates['interior']:.3f}, boundary {rates['boundary']:.3f}; "
+                  f"boundary pixels {rates['boundary_cells']:.2f} of the maps)", flush=True)
+            methods = {"uniform": (uniform_method(), True), "oracle": (window_oracle_method(P.data), True),
+                       "context-limited oracle": (context_limited_oracle_method(), True), name: (read_out(tower), True)}
+            for preference in ("realistic", "inverted"):
+                result = navigation_rows(group_maps, methods, bank, P.data, preference, P.evaluation.cost_scale,
+                                         P.seed, P.evaluation.queries_per_map)
+                low = {k: s[:, 0] for k, s in result.shares.items()}
+                claim = gap_closed(name, low[name], low["uniform"], low["oracle"], group, preference)
+                ceiling = gap_closed("context-limited oracle", low["context-limited oracle"], low["uniform"],
+                                     low["oracle"], group, preference)
+                print(f"  {group}/{preference}: {claim.ours}; context-limited oracle {ceiling.ours}", flush=True)
+                found.append({"tower": name, "group": group, "preference": preference, "recognition": rates,
+                              "gap": claim.ours, "ceiling": ceiling.ours, "train_s": trained,
+                              "final_loss": float(np.mean(losses[-250:])) if losses else None})
+    if args.out is not None:
+        args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "results": found}, indent=1))
+        print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
