@@ -182,6 +182,7 @@ def main() -> None:
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
                         choices=["committed", "pooled", "dilated"])
     parser.add_argument("--steps", type=int, default=2000)
+    parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None, help="also write the results as JSON here")
@@ -199,7 +200,7 @@ def main() -> None:
             tower = CommittedMatcher(load_model(ROOT / "artifacts" / "pacer" / "phase3" / "model.pt", "cpu").matcher)
             losses = []
         else:
-            tower = Tower(dilated=name == "dilated")
+            tower = Tower(dilated=name == "dilated", channels=tuple(args.channels))
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, bank, args.steps, args.seed)
         tower.eval()
@@ -223,7 +224,8 @@ def main() -> None:
                               "gap": claim.ours, "ceiling": ceiling.ours, "train_s": trained,
                               "final_loss": float(np.mean(losses[-250:])) if losses else None})
     if args.out is not None:
-        args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "results": found}, indent=1))
+        args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "channels": args.channels,
+                                        "results": found}, indent=1))
         print(f"wrote {args.out}")
 
 
