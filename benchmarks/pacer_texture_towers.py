@@ -53,6 +53,7 @@ from navlab.pacer.experiments import (
     uniform_method,
     window_oracle_method,
 )
+from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import mean_consistent_ranks
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import load_model
@@ -61,52 +62,32 @@ ROOT = Path(__file__).resolve().parents[1]
 INTERIOR_PX = 9  # a cell is interior when its 9 x 9-pixel neighbourhood shows one terrain
 
 
-class Tower(nn.Module):
-    """Texture features for image pixels and context patches, compared by centred cosine (as the matcher)."""
+class DilatedMatcher(TextureMatcher):
+    """The texture matcher with its tower unpooled: stage k's two convolutions dilated 2^k, features at every
+    pixel (receptive field 1 + 4 (2^K - 1) px), no 3 x 3 mean; keys, centring and temperature are the matcher's."""
 
-    def __init__(self, dilated: bool, channels: tuple[int, ...] = (16, 32, 32)):
-        super().__init__()
+    def __init__(self, channels: tuple[int, ...]):
+        super().__init__(channels)
         layers, c = [], 3
-        stages = zip(channels, (1, 2, 4)) if dilated else zip(channels[:2], (1, 1))
-        for width, d in stages:
-            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(),
-                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU()]
-            if not dilated:
-                layers.append(nn.AvgPool2d(2))
+        for stage, width in enumerate(channels):
+            d = 2**stage
+            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True),
+                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True)]
             c = width
-        self.features, self.project = nn.Sequential(*layers), nn.Conv2d(c, c, 1)
-        self.log_temperature = nn.Parameter(torch.tensor(2.3))
-        self.dilated = dilated
+        self.features = nn.Sequential(*layers)
 
-    def embed(self, x: torch.Tensor) -> torch.Tensor:
-        return self.project(self.features(x - 0.5))
-
-    def cosines(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
-        """(B, 2n, H, W): every pixel's cosine with each context patch (preferred patches first)."""
-        b, n, h = context.shape[0], context.shape[1] // 3, context.shape[2] // 2
-        patches = torch.cat([context[:, :, :h], context[:, :, h:]], 1).reshape(b * 2 * n, 3, h, -1)
-        keys = self.embed(patches).mean((2, 3)).reshape(b, 2 * n, -1)
-        centre = keys.mean(1)
-        keys = F.normalize(keys - centre[:, None], dim=2)
-        feats = self.embed(image)
-        if not self.dilated:
-            feats = F.avg_pool2d(feats, 3, 1, 1, count_include_pad=False)
-        cos = torch.einsum("bkd,bdhw->bkhw", keys, F.normalize(feats - centre[:, :, None, None], dim=1))
-        return cos if self.dilated else F.interpolate(cos, size=image.shape[-2:], mode="bilinear",
-                                                      align_corners=False)
+    def cosines(self, image: torch.Tensor, keys: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
+        feats = F.normalize(self.embed(image) - centre[:, :, None, None], dim=1)
+        return torch.einsum("bkd,bdhw->bkhw", keys, feats)
 
 
-class CommittedMatcher(nn.Module):
-    """The committed phase-3 model's ``TextureMatcher``, with the tower's interface."""
-
-    def __init__(self, matcher: nn.Module):
-        super().__init__()
-        self.matcher = matcher
-
-    def cosines(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
-        keys, centre = self.matcher.keys(context)
-        cos = self.matcher.cosines(image, keys, centre)
-        return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
+def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+    """(B, 2n, H, W): every pixel's cosine with each context patch (preferred patches first); a pooled
+    matcher's cells upsampled bilinearly."""
+    cos = matcher.cosines(image, *matcher.keys(context))
+    if cos.shape[-2:] == image.shape[-2:]:
+        return cos
+    return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
 
 
 def matching_loss(cos: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
@@ -118,7 +99,7 @@ def matching_loss(cos: torch.Tensor, temperature: torch.Tensor, labels: torch.Te
     return -torch.logsumexp(log_p.masked_fill(~own, -torch.inf), dim=1)[shown].mean()
 
 
-def train_tower(tower: Tower, params, bank, steps: int, seed: int) -> list[float]:
+def train_tower(tower: TextureMatcher, params, bank, steps: int, seed: int) -> list[float]:
     data = params.pacer.data
     data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.5))
     items = pacer_dataset(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data)),
@@ -131,7 +112,7 @@ def train_tower(tower: Tower, params, bank, steps: int, seed: int) -> list[float
         loader = DataLoader(items, batch_size=16, shuffle=True, generator=torch.Generator().manual_seed(seed + epoch))
         for batch in loader:
             pairs = batch["pairs"]
-            loss = matching_loss(tower.cosines(batch["image"], batch["context"]), tower.log_temperature.exp(),
+            loss = matching_loss(pixel_cosines(tower, batch["image"], batch["context"]), tower.log_temperature.exp(),
                                  batch["labels"], torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1))
             optimiser.zero_grad()
             loss.backward()
@@ -147,13 +128,13 @@ def train_tower(tower: Tower, params, bank, steps: int, seed: int) -> list[float
     return losses
 
 
-def nearest_terrain(tower: nn.Module, amap, context: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def nearest_terrain(tower: TextureMatcher, amap, context: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     with torch.no_grad():
-        cos = tower.cosines(torch.as_tensor(amap.image)[None], torch.as_tensor(context)[None])[0]
+        cos = pixel_cosines(tower, torch.as_tensor(amap.image)[None], torch.as_tensor(context)[None])[0]
     return np.concatenate([pairs[:, 0], pairs[:, 1]])[cos.argmax(0).numpy()]
 
 
-def read_out(tower: nn.Module):
+def read_out(tower: TextureMatcher):
     """A ``pacer.experiments.Method``: each pixel costs its nearest patch's terrain's mean consistent rank."""
     def cost(amap, _ordering, context, pairs):
         terrains = np.unique(pairs)
@@ -163,7 +144,7 @@ def read_out(tower: nn.Module):
     return cost
 
 
-def recognition(tower: nn.Module, maps, bank, data, seed: int) -> dict[str, float]:
+def recognition(tower: TextureMatcher, maps, bank, data, seed: int) -> dict[str, float]:
     rates = {"all": [], "interior": [], "boundary": []}
     for index, amap in enumerate(maps):
         _, context, pairs = map_context(bank, data, amap, "realistic", True, seed, index)
@@ -197,10 +178,11 @@ def main() -> None:
         started = time.time()
         torch.manual_seed(args.seed)
         if name == "committed":
-            tower = CommittedMatcher(load_model(ROOT / "artifacts" / "pacer" / "phase3" / "model.pt", "cpu").matcher)
+            tower = load_model(ROOT / "artifacts" / "pacer" / "phase3" / "model.pt", "cpu").matcher
             losses = []
         else:
-            tower = Tower(dilated=name == "dilated", channels=tuple(args.channels))
+            channels = tuple(args.channels)
+            tower = DilatedMatcher(channels) if name == "dilated" else TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, bank, args.steps, args.seed)
         tower.eval()
