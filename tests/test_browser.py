@@ -335,8 +335,7 @@ def test_pacer_playground_answers_clicks(browser, lab):
 
     def interact(page: Page, run: LabRun) -> None:
         check_clean(run)
-        page.wait_for_function("() => { const i = document.querySelector('img.navlab-result');"
-                               " return i && i.naturalWidth > 0; }", timeout=60_000)
+        wait_drawn(page, _RESULT_IMAGE_DRAWN)
         seen.append(page.evaluate(_RESULT_DIGEST_JS))
         seen.append(click_widget(page, ".navlab-clear"))
         click_widget(page, ".navlab-terrain", 0, redraws=False)
@@ -388,20 +387,24 @@ _CANVAS_DIGEST_JS = """() => {
 }"""
 
 
-def wait_for_canvas(page: Page) -> None:
-    """The playground's ipympl canvas drawn, with its cell scrolled into view first, as a reader scrolls up
-    to it after Run All (which leaves the page at the last figure): JupyterLab skips laying out cells out of
-    view (windowing mode ``contentVisibility``), so a widget there may wait for the scroll to render. If it
-    never renders, the failure says what the widget's cell shows (e.g. "Error displaying widget")."""
+def wait_drawn(page: Page, condition: str) -> None:
+    """Wait (120 s) until ``condition`` (a JS expression) holds for the playground's drawn result, with the
+    widget's cell scrolled into view first, as a reader scrolls up to it after Run All (which leaves the page at
+    the last figure): JupyterLab skips laying out cells out of view (windowing mode ``contentVisibility``), so
+    a widget there may wait for the scroll to render. If it never does, the failure says what the widget's cell
+    shows (e.g. "Error displaying widget")."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
     cell = page.locator(".jp-Notebook .jp-CodeCell", has_text="view.widget").first
     try:
         cell.scroll_into_view_if_needed(timeout=60_000)
-        page.wait_for_function(f"() => ({_CANVAS_DIGEST_JS})() !== null", timeout=120_000)
+        page.wait_for_function(f"() => {condition}", timeout=120_000)
     except PlaywrightTimeout as error:
         shown = cell.locator(".jp-OutputArea").inner_text(timeout=5_000) if cell.count() else "(no such cell)"
-        raise AssertionError(f"the playground's canvas was never drawn; its cell shows: {shown[:500]!r}") from error
+        raise AssertionError(f"the playground's result was never drawn; its cell shows: {shown[:500]!r}") from error
+
+
+_RESULT_IMAGE_DRAWN = "{ const i = document.querySelector('img.navlab-result'); return i && i.naturalWidth > 0; }"
 
 
 def click_room(page: Page, x: float, y: float) -> str:
@@ -437,7 +440,7 @@ def test_hj_playground_answers_clicks(browser, lab):
 
     def interact(page: Page, run: LabRun) -> None:
         check_clean(run)
-        wait_for_canvas(page)
+        wait_drawn(page, f"({_CANVAS_DIGEST_JS})() !== null")
         seen.append(page.evaluate(_CANVAS_DIGEST_JS))
         for mode, (x, y) in (("goal", (8.0, 1.6)), ("start", (1.0, 1.0)), ("human", (6.0, 1.2))):
             page.locator(".navlab-mode button", has_text=mode).first.click()
@@ -525,8 +528,7 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
 
     def interact(page: Page, run: LabRun) -> None:
         check_clean(run)
-        page.wait_for_function("() => { const i = document.querySelector('img.navlab-result');"
-                               " return i && i.naturalWidth > 0; }", timeout=60_000)
+        wait_drawn(page, _RESULT_IMAGE_DRAWN)
         page.locator(".navlab-map").scroll_into_view_if_needed()
         seen.append(page.evaluate(_RESULT_DIGEST_JS))
         for name, button in (("goal", 1), ("start", 0), ("close", 2)):  # the buttons in MODES order
