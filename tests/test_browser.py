@@ -275,6 +275,8 @@ def test_run_all_in_jupyterlab(notebook, browser, lab):
 
 
 # A playground's drawn result: a digest of the bytes its <img> shows (a new value is a new blob URL).
+# The drawn result image of the PACER and SuReNav playgrounds has loaded (a condition for ``wait_drawn``).
+_RESULT_IMAGE_DRAWN = "{ const i = document.querySelector('img.navlab-result'); return i && i.naturalWidth > 0; }"
 _RESULT_DIGEST_JS = """async () => {
   const img = document.querySelector('img.navlab-result');
   if (!img || !img.src) return null;
@@ -402,9 +404,6 @@ def wait_drawn(page: Page, condition: str) -> None:
     except PlaywrightTimeout as error:
         shown = cell.locator(".jp-OutputArea").inner_text(timeout=5_000) if cell.count() else "(no such cell)"
         raise AssertionError(f"the playground's result was never drawn; its cell shows: {shown[:500]!r}") from error
-
-
-_RESULT_IMAGE_DRAWN = "{ const i = document.querySelector('img.navlab-result'); return i && i.naturalWidth > 0; }"
 
 
 def click_room(page: Page, x: float, y: float) -> str:
