@@ -38,7 +38,6 @@ from pathlib import Path
 import numpy as np
 import torch
 from scipy import ndimage
-from torch import nn
 from torch.nn import functional as F
 from torch.utils.data import DataLoader
 
@@ -53,6 +52,7 @@ from navlab.pacer.experiments import (
     uniform_method,
     window_oracle_method,
 )
+from navlab.pacer.loss import matching_loss
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import mean_consistent_ranks
 from navlab.pacer.terrain import load_terrain_bank
@@ -62,25 +62,6 @@ ROOT = Path(__file__).resolve().parents[1]
 INTERIOR_PX = 9  # a cell is interior when its 9 x 9-pixel neighbourhood shows one terrain
 
 
-class DilatedMatcher(TextureMatcher):
-    """The texture matcher with its tower unpooled: stage k's two convolutions dilated 2^k, features at every
-    pixel (receptive field 1 + 4 (2^K - 1) px), no 3 x 3 mean; keys, centring and temperature are the matcher's."""
-
-    def __init__(self, channels: tuple[int, ...]):
-        super().__init__(channels)
-        layers, c = [], 3
-        for stage, width in enumerate(channels):
-            d = 2**stage
-            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True),
-                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True)]
-            c = width
-        self.features = nn.Sequential(*layers)
-
-    def cosines(self, image: torch.Tensor, keys: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
-        feats = F.normalize(self.embed(image) - centre[:, :, None, None], dim=1)
-        return torch.einsum("bkd,bdhw->bkhw", keys, feats)
-
-
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
     """(B, 2n, H, W): every pixel's cosine with each context patch (preferred patches first); a pooled
     matcher's cells upsampled bilinearly."""
@@ -88,15 +69,6 @@ def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     if cos.shape[-2:] == image.shape[-2:]:
         return cos
     return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
-
-
-def matching_loss(cos: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
-                  patch_terrains: torch.Tensor) -> torch.Tensor:
-    """Mean over pixels whose terrain the context shows of -log(softmax mass on that terrain's patches)."""
-    log_p = torch.log_softmax(cos * temperature, dim=1)
-    own = patch_terrains[:, :, None, None] == labels[:, None]
-    shown = own.any(dim=1)
-    return -torch.logsumexp(log_p.masked_fill(~own, -torch.inf), dim=1)[shown].mean()
 
 
 def train_tower(tower: TextureMatcher, params, bank, steps: int, seed: int) -> list[float]:
@@ -183,7 +155,7 @@ def main() -> None:
             losses = []
         else:
             channels = tuple(args.channels)
-            tower = DilatedMatcher(channels) if name == "dilated" else TextureMatcher(channels[:2])
+            tower = TextureMatcher(channels, dilated=True) if name == "dilated" else TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, bank, args.steps, args.seed)
         tower.eval()

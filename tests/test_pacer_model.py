@@ -14,7 +14,7 @@ from navlab.core.seeding import rng
 from navlab.pacer.baselines.semantic_classifier import train_classifier
 from navlab.pacer.baselines.sterling import SterlingEncoder, augment, train_sterling, vicreg_loss
 from navlab.pacer.checkpoints import read_summary
-from navlab.pacer.loss import masked_bce
+from navlab.pacer.loss import masked_bce, matching_loss
 from navlab.pacer.model import build_model
 from navlab.pacer.train import (
     PhaseRun,
@@ -58,7 +58,7 @@ class TinyTerrainSet(torch.utils.data.Dataset):
         context = np.concatenate([np.concatenate([texture(p, (PATCH, PATCH), gen), texture(q, (PATCH, PATCH), gen)],
                                                  axis=1) for p, q in pairs])
         return {"image": image, "context": context, "costmap": costmap, "fov_mask": fov, "labels": labels,
-                "ordering": self.ordering}
+                "ordering": self.ordering, "pairs": np.array(pairs, dtype=np.int64)}
 
 
 @pytest.fixture(scope="module")
@@ -87,6 +87,77 @@ def test_loss_ignores_pixels_outside_the_field_of_view():
     assert torch.allclose(loss, inside)
     with pytest.raises(ValueError, match="same shape"):
         masked_bce(logits, target[:, :-1], fov)
+
+
+def test_matching_loss_is_the_prototypical_cross_entropy_over_shown_pixels():
+    """Analytic value: a pixel whose own terrain's k patches have cosine 1 and the other 2n - k cosine 0 costs
+    -log(k e^T / (k e^T + 2n - k)); pixels out of view or of a terrain the context does not show add nothing
+    (their cosines can change freely); a batch showing none is 0 with a zero gradient; the gradient matches
+    finite differences; a stride-s cosine map is upsampled to the labels."""
+    n2, T = 6, torch.tensor(3.0, dtype=torch.float64)
+    terrains = torch.tensor([[0, 1, 2, 1, 3, 4]])  # terrain 1 has two patches
+    labels = torch.tensor([[[0, 1, -1, 9]]])  # (1, 1, 4): terrain 0, terrain 1, out of view, not in the context
+    cos = torch.zeros(1, n2, 1, 4, dtype=torch.float64)
+    cos[0, 0, 0, 0] = 1.0
+    cos[0, [1, 3], 0, 1] = 1.0
+    expected = -(math.log(math.e ** 3 / (math.e ** 3 + 5)) + math.log(2 * math.e ** 3 / (2 * math.e ** 3 + 4))) / 2
+    assert float(matching_loss(cos, T, labels, terrains)) == pytest.approx(expected, rel=1e-12)
+    moved = cos.clone()
+    moved[:, :, :, 2:] = torch.randn(1, n2, 1, 2, dtype=torch.float64)
+    assert float(matching_loss(moved, T, labels, terrains)) == pytest.approx(expected, rel=1e-12)
+    free = torch.randn(1, n2, 1, 4, dtype=torch.float64, requires_grad=True)
+    none = matching_loss(free, T, torch.full((1, 1, 4), -1), terrains)
+    none.backward()
+    assert float(none.detach()) == 0.0 and bool(torch.all(free.grad == 0))
+    torch.autograd.gradcheck(lambda c, t: matching_loss(c, t, labels, terrains),
+                             (torch.randn(1, n2, 1, 4, dtype=torch.float64, requires_grad=True), T.clone().requires_grad_()))
+    coarse = torch.randn(1, n2, 2, 2, dtype=torch.float64)
+    fine = torch.nn.functional.interpolate(coarse, size=(4, 4), mode="bilinear", align_corners=False)
+    grid = torch.tensor([[[0, 1, 2, 3]] * 4])
+    assert float(matching_loss(coarse, T, grid, terrains)) == pytest.approx(float(matching_loss(fine, T, grid, terrains)))
+
+
+def test_matching_loss_trains_the_matcher_to_recognise_and_needs_one(smoke, tmp_path):
+    """Trained by the matching loss alone (no cost targets), a fresh matcher's nearest context patch comes to name
+    the right terrain for more pixels of held-out items than at the start; asking for the loss without a matcher
+    is one clear error naming both parameters."""
+    from navlab.pacer.model import TextureMatcher
+
+    torch.manual_seed(0)
+    torch.set_num_threads(1)
+    matcher = TextureMatcher(tuple(smoke.model.match_channels), dilated=smoke.model.match_dilated)
+    held_out = ContextOnlySet(16, seed=1)
+
+    def accuracy() -> float:
+        right = total = 0
+        with torch.no_grad():
+            for i in range(len(held_out)):
+                item = held_out[i]
+                cos = matcher.cosines(torch.as_tensor(item["image"])[None], *matcher.keys(torch.as_tensor(item["context"])[None]))
+                cos = torch.nn.functional.interpolate(cos, size=item["labels"].shape, mode="bilinear", align_corners=False)
+                found = np.concatenate([item["pairs"][:, 0], item["pairs"][:, 1]])[cos[0].argmax(0).numpy()]
+                named = np.isin(item["labels"], item["pairs"])
+                right, total = right + int((found == item["labels"])[named].sum()), total + int(named.sum())
+        return right / total
+
+    before = accuracy()
+    optimiser = torch.optim.Adam(matcher.parameters(), lr=3e-3)
+    train = ContextOnlySet(256, seed=0)
+    for step in range(40):
+        batch = [train[(8 * step + k) % len(train)] for k in range(8)]
+        image, context, labels, pairs = (torch.as_tensor(np.stack([b[k] for b in batch]))
+                                         for k in ("image", "context", "labels", "pairs"))
+        loss = matching_loss(matcher.cosines(image, *matcher.keys(context)), matcher.log_temperature.exp(), labels,
+                             torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1))
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+    assert accuracy() > before + 0.1, (before, accuracy())
+    no_matcher = dataclasses.replace(smoke.model, match_channels=())
+    with pytest.raises(ValueError, match="match_loss_weight.*match_channels"):
+        train_phase(no_matcher, tiny_train_cfg(smoke, match_loss_weight=1.0), [TinyTerrainSet(8)], [TinyTerrainSet(4)],
+                    tmp_path, PhaseRun("phase1", epochs=1, seed=0), progress=False)
+    assert not any(tmp_path.iterdir())  # refused before anything was written
 
 
 @pytest.mark.parametrize("profile", ["smoke", "default"])
@@ -384,6 +455,32 @@ def test_match_evidence_flips_with_the_context_and_ignores_pair_order(smoke):
     torch.testing.assert_close(match_swapped[:, 1], match[:, 1], rtol=0, atol=atol)
     torch.testing.assert_close(match_reordered, match, rtol=0, atol=atol)
     assert float(match[:, 0].abs().max()) > 100 * atol  # the evidence is not ~0, so the sign test bites
+
+
+@pytest.mark.parametrize("channels", [(8, 8), (4, 4, 4)])
+def test_dilated_matcher_keeps_full_resolution_and_its_receptive_field(channels):
+    """The dilated tower (issue 24) gives one cosine per image pixel, and a pixel's cosines depend on the image
+    within 1 + 4 (2^K - 1) px around it only (K stages, dilations 1, 2, 4, ...): a change of one pixel moves the
+    cosines inside that window and nowhere else, so a thin strip is matched on its own texture and its near
+    surroundings, not on a pooled cell. The pooled tower (``dilated=False``) gives one cell per 2^K pixels."""
+    from navlab.pacer.model import TextureMatcher
+
+    torch.manual_seed(0)
+    dilated, pooled = TextureMatcher(channels, dilated=True).double(), TextureMatcher(channels).double()
+    image, context = torch.rand(1, 3, 48, 48, dtype=torch.float64), torch.rand(1, 9, 16, 8, dtype=torch.float64)
+    keys, centre = dilated.keys(context)
+    base = dilated.cosines(image, keys, centre)
+    assert base.shape == (1, 6, 48, 48)
+    assert pooled.cosines(image, *pooled.keys(context)).shape == (1, 6, 48 // 2 ** len(channels), 48 // 2 ** len(channels))
+    poked = image.clone()
+    poked[0, :, 24, 24] += 0.5
+    moved = (dilated.cosines(poked, keys, centre) - base).abs().amax(dim=(0, 1)) > 1e-12
+    reach = 2 * (2 ** len(channels) - 1)  # half the receptive field
+    rows, cols = torch.nonzero(moved, as_tuple=True)
+    assert moved[24, 24]
+    assert int(rows.min()) >= 24 - reach and int(rows.max()) <= 24 + reach
+    assert int(cols.min()) >= 24 - reach and int(cols.max()) <= 24 + reach
+    assert int(rows.max() - rows.min()) > reach  # it does reach beyond the pixel's own neighbourhood
 
 
 def test_brief_training_follows_the_context_on_terrains_it_never_saw(smoke):

@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -21,6 +22,7 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
+from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
@@ -66,6 +68,16 @@ class NavigationResult:
     rows: list[dict]
     shares: dict[str, np.ndarray | None]
     paths: dict[str, list[np.ndarray]]
+
+
+def heldout_bev_params(params: Params) -> Params:
+    """``params`` with every BEV item procedural (``street_windows`` 0): the held-out BEV sets the pair agreement
+    and the figures are drawn from (``datasets.evaluation_dataset``) stay the paper's kind of item, the same
+    whatever share of training items are street windows; the street layouts are what the map tables and the
+    map windows test."""
+    data = params.pacer.data
+    data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.0))
+    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data))
 
 
 def map_context(bank: TerrainBank, data: PacerDataParams, amap: AerialMap, preference: Preference,

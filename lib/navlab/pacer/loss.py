@@ -1,10 +1,18 @@
-"""Eq. 3 of PACER: per-pixel binary cross-entropy, averaged over the camera's field of view only.
+"""Eq. 3 of PACER: per-pixel binary cross-entropy, averaged over the camera's field of view only; and the
+texture matcher's matching loss (ours, issue 24).
 
 ``entropy_floor`` is the loss a perfect model would reach (the targets are soft costs in [0, 1]),
 the yardstick a final validation loss is read against.
 
 Pixels outside the trapezoid field-of-view mask were never seen by the camera; their target cost is
 meaningless, so they contribute neither to the loss nor to its gradient.
+
+The matching loss teaches the matcher (``model.TextureMatcher``) to *recognise*: Eq. 3 alone trains it only
+through the costs, and a full-resolution tower trained that way never learned to tell the maps' terrains
+apart (benchmarks/README.md, "where the matcher loses the maps' terrains"). Each pixel's softmax over the
+context's 2n patches (at the attention's own temperature) should put its mass on the patches of the
+pixel's own terrain, which every training item knows: a per-pixel prototypical loss (Snell et al., NeurIPS
+2017) with the context patches as prototypes.
 """
 
 from __future__ import annotations
@@ -38,3 +46,20 @@ def entropy_floor(datasets) -> float:
             total += float(entropy[mask].sum())
             pixels += int(mask.sum())
     return total / pixels if pixels else float("nan")
+
+
+def matching_loss(cosines: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
+                  patch_terrains: torch.Tensor) -> torch.Tensor:
+    """Mean over pixels whose terrain the context shows of -log(softmax mass on that terrain's patches).
+
+    cosines (B, 2n, h, w) at any stride (upsampled bilinearly to the labels' size), labels (B, H, W) terrain ids
+    (negative: not in view), patch_terrains (B, 2n) the terrain of each patch in the cosines' order; 0 where no
+    pixel of the batch shows a terrain of its context (nothing to match)."""
+    if cosines.shape[-2:] != labels.shape[-2:]:
+        cosines = F.interpolate(cosines, size=labels.shape[-2:], mode="bilinear", align_corners=False)
+    own = patch_terrains[:, :, None, None] == labels[:, None]
+    shown = own.any(dim=1)
+    if not bool(shown.any()):
+        return cosines.sum() * 0.0
+    log_p = torch.log_softmax(cosines * temperature, dim=1).movedim(1, -1)[shown]  # (pixels shown, 2n)
+    return -torch.logsumexp(log_p.masked_fill(~own.movedim(1, -1)[shown], -torch.inf), dim=1).mean()

@@ -125,10 +125,14 @@ class FiLM(nn.Module):
 class TextureMatcher(nn.Module):
     """Per-location preference evidence from appearance: (image, context) → (B, 2, H/s, W/s) maps.
 
-    One tower of 3×3 convolutions (ReLU, a 2×2 average pool after each stage, no batch norm so that
-    images and patches are featured alike in training and evaluation) maps the image to features at
-    stride ``s = 2 ** len(channels)`` (locally averaged over 3×3, about one patch of support) and each
-    context patch to the mean of its features; both are projected, centred on the mean of the context's
+    One tower of 3×3 convolutions (ReLU, no batch norm so that images and patches are featured alike in
+    training and evaluation) maps the image to features and each context patch to the mean of its
+    features. ``dilated`` (the small profiles): stage k's convolutions are dilated 2^k and nothing is
+    pooled, so features stay at stride s = 1 with a receptive field of 1 + 4·(2^K - 1) px; a sidewalk or
+    strip 1-3 px wide keeps features of its own (with a 2×2 pool per stage, stride ``s = 2 ** len(channels)``
+    and a 3×3 local mean, a strip's features were mostly its neighbours': on the evaluation maps, whose
+    pixels lie within 4 px of another terrain for about half of them, the nearest patch was right for 0.63 of
+    those against 0.94 inside regions; benchmarks/pacer_texture_towers.py). Both are projected, centred on the mean of the context's
     2n patch features (what the context's terrains share says nothing about which one a location is:
     uncentred ReLU features all point one way, cosines near 1 whatever the terrain) and L2-normalised.
     Every location attends over the 2n patches by cosine similarity (softmax with a learned
@@ -143,14 +147,17 @@ class TextureMatcher(nn.Module):
     Both are invariant to the order of the pairs and S changes sign when every pair is swapped.
     """
 
-    def __init__(self, channels: tuple[int, ...], colour_channels: int = 3):
+    def __init__(self, channels: tuple[int, ...], colour_channels: int = 3, dilated: bool = False):
         super().__init__()
         layers, c = [], colour_channels
-        for width in channels:
-            layers += [nn.Conv2d(c, width, 3, padding=1), nn.ReLU(inplace=True),
-                       nn.Conv2d(width, width, 3, padding=1), nn.ReLU(inplace=True), nn.AvgPool2d(2)]
+        for stage, width in enumerate(channels):
+            d = 2**stage if dilated else 1
+            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True),
+                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True)]
+            layers += [] if dilated else [nn.AvgPool2d(2)]
             c = width
         self.features = nn.Sequential(*layers)
+        self.dilated = dilated
         self.project = nn.Conv2d(c, c, 1)
         self.log_temperature = nn.Parameter(torch.tensor(2.3))  # e^2.3 ≈ 10: cosines 0.1 apart → e:1 weights
         # two patches show the same terrain with weight sigmoid(e^k (cos - c)); c = 0.7, e^k = 10 at the start:
@@ -175,7 +182,9 @@ class TextureMatcher(nn.Module):
 
     def cosines(self, image: torch.Tensor, keys: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
         """(B, 2n, H/s, W/s): every image location's cosine with each context patch."""
-        feats = F.avg_pool2d(self.embed(image), 3, stride=1, padding=1, count_include_pad=False)
+        feats = self.embed(image)
+        if not self.dilated:  # a pooled tower's cells average over about one patch of support
+            feats = F.avg_pool2d(feats, 3, stride=1, padding=1, count_include_pad=False)
         feats = F.normalize(feats - centre[:, :, None, None], dim=1)
         return torch.einsum("bkd,bdhw->bkhw", keys, feats)
 
@@ -202,12 +211,18 @@ class TextureMatcher(nn.Module):
         losses = (beats * weight[:, :, None]).sum(dim=1)
         return (wins - losses) / (wins + losses).clamp_min(1e-6)
 
-    def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+    def match(self, image: torch.Tensor, context: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """The (B, 2, H/s, W/s) maps S and M, and the cosines they derive from (B, 2n, H/s, W/s), which the
+        matching loss (``pacer.loss.matching_loss``) trains directly."""
         keys, centre = self.keys(context)
-        cosine = self.cosines(image, keys, centre)  # (B, 2n, H/s, W/s)
+        cosine = self.cosines(image, keys, centre)
         attention = torch.softmax(cosine * self.log_temperature.exp(), dim=1)
         role = -self.patch_ranks(keys)[:, :, None, None]
-        return torch.cat([(attention * role).sum(dim=1, keepdim=True), cosine.amax(dim=1, keepdim=True)], dim=1)
+        maps = torch.cat([(attention * role).sum(dim=1, keepdim=True), cosine.amax(dim=1, keepdim=True)], dim=1)
+        return maps, cosine
+
+    def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        return self.match(image, context)[0]
 
 
 class UpBlock(nn.Module):
@@ -243,7 +258,8 @@ class PacerNet(nn.Module):
             b = cfg.bottleneck_channels
             self.fuse = nn.Sequential(nn.Linear(b + cfg.context_dim, b + cfg.context_dim // 2),
                                       nn.Linear(b + cfg.context_dim // 2, b))
-        self.matcher = TextureMatcher(tuple(cfg.match_channels), colour_channels) if cfg.match_channels else None
+        self.matcher = (TextureMatcher(tuple(cfg.match_channels), colour_channels, cfg.match_dilated)
+                        if cfg.match_channels else None)
         if self.matcher is not None:  # the match maps enter the bottleneck and every decoder stage
             self.match_in = nn.ModuleList(nn.Conv2d(2, c, 1) for c in ups)
             # and S reaches the cost logit directly, with a learned gain: "looks like a less preferred
@@ -267,6 +283,10 @@ class PacerNet(nn.Module):
                              "(height = 2 x width = 2 x pacer.data.patch_size); check the patch size")
 
     def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
+        return self.scored(image, context)[0]
+
+    def scored(self, image: torch.Tensor, context: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor | None]:
+        """Cost logits (B, H, W) and the matcher's cosines (B, 2n, H/s, W/s; None without a matcher)."""
         h, w = image.shape[-2:]
         if h % self.stride or w % self.stride:
             raise ValueError(f"image size {h}x{w}: height and width must be multiples of {self.stride} "
@@ -284,7 +304,7 @@ class PacerNet(nn.Module):
         else:
             pooled = x.mean(dim=(2, 3))
             x = self.fuse(torch.cat([pooled, z], dim=1))[:, :, None, None].expand_as(x)
-        match = self.matcher(image, context) if self.matcher is not None else None
+        match, cosine = self.matcher.match(image, context) if self.matcher is not None else (None, None)
         x = self._add_match(x, match, 0)
         for i, (block, skip) in enumerate(zip(self.up, reversed(skips))):
             x = block(x, skip)
@@ -295,12 +315,14 @@ class PacerNet(nn.Module):
         if match is not None:
             evidence = F.interpolate(match[:, :1], size=logits.shape[-2:], mode="bilinear", align_corners=False)
             logits = logits + self.match_gain * evidence[:, 0]
-        return logits
+        return logits, cosine
 
     def _add_match(self, x: torch.Tensor, match: torch.Tensor | None, stage: int) -> torch.Tensor:
         if match is None:
             return x
-        if match.shape[-2:] != x.shape[-2:]:
+        if match.shape[-2] > x.shape[-2]:  # a full-resolution match map: the mean over each stage's cell
+            match = F.adaptive_avg_pool2d(match, x.shape[-2:])
+        elif match.shape[-2:] != x.shape[-2:]:
             match = F.interpolate(match, size=x.shape[-2:], mode="bilinear", align_corners=False)
         return x + self.match_in[stage](match)
 

@@ -9,7 +9,7 @@ naming the map's commonest context terrain (what a matcher that tells nothing ap
 recognition rate near that baseline means the context cannot steer the costmap, whatever the pairs say.
 
 The cosines are the matcher's own (``TextureMatcher.embed``, centred on the context's patch features and
-L2-normalised, image features locally averaged over 3 x 3 cells), recomputed here because the network
+L2-normalised; a pooled tower's image features locally averaged over 3 x 3 cells), recomputed here because the network
 returns only the maps it derives from them; ``tests/test_pacer_recognition.py`` checks that they give the
 network's own preference map S back.
 """
@@ -34,7 +34,8 @@ from navlab.pacer.terrain import TerrainBank
 
 @torch.no_grad()
 def patch_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
-    """(2n, h, w): cosine of every image cell (stride ``2 ** len(match_channels)``) with each of the context's
+    """(2n, h, w): cosine of every image cell (every pixel for a dilated matcher, else stride
+    ``2 ** len(match_channels)``) with each of the context's
     2n patches (the n preferred first, then the n others), as the matcher computes them; image (3, H, W),
     context (3n, 2p, p)."""
     keys, centre = matcher.keys(context[None])

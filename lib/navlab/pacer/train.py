@@ -40,18 +40,18 @@ from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
 from navlab.core.training import TrainingRun, cosine_schedule, descend, fit, save_torch
 from navlab.pacer.checkpoints import load_network
-from navlab.pacer.loss import entropy_floor, masked_bce
+from navlab.pacer.loss import entropy_floor, masked_bce, matching_loss
 from navlab.pacer.map_windows import MapWindow, selection_score
 from navlab.pacer.model import PacerNet, build_model
 
 PHASES = ("phase1", "phase2", "phase3")
 PHASE_DATASETS = {"phase1": ("real",), "phase2": ("real", "shuffled"), "phase3": ("real", "shuffled", "synthetic")}
-BATCH_KEYS = ("image", "context", "costmap", "fov_mask")
+BATCH_KEYS = ("image", "context", "costmap", "fov_mask", "labels", "pairs")
 SELECT_ON = ("map_windows", "val_loss")  # pacer.train.select_on
 
 
 def collate(items: Sequence[dict]) -> dict[str, torch.Tensor]:
-    """Stack the tensors the loss needs; other keys (labels, ordering) stay with the datasets."""
+    """Stack the tensors the losses need; the ordering stays with the datasets."""
     return {k: torch.stack([torch.as_tensor(np.asarray(it[k])) for it in items]) for k in BATCH_KEYS}
 
 
@@ -65,13 +65,19 @@ def epoch_draws(sizes: Sequence[int], count: int, seed: int, phase: str, epoch: 
     return list(zip(which.tolist(), index.tolist()))
 
 
-def batch_loss(model: PacerNet, batch: dict[str, torch.Tensor], device) -> torch.Tensor:
-    """Masked BCE of one batch; images and contexts go in channels-last, the layout in which the CPU
-    (oneDNN) convolutions of a channels-last model run fastest (1.4x per training step, default profile)."""
+def batch_loss(model: PacerNet, batch: dict[str, torch.Tensor], device, match_weight: float = 0.0) -> torch.Tensor:
+    """Masked BCE of one batch (Eq. 3), plus ``match_weight`` x the matcher's matching loss; images and contexts
+    go in channels-last, the layout in which the CPU (oneDNN) convolutions of a channels-last model run
+    fastest (1.4x per training step, default profile)."""
     image, context = (batch[k].to(device, torch.float32, memory_format=torch.channels_last)
                       for k in ("image", "context"))
-    logits = model(image, context)
-    return masked_bce(logits, batch["costmap"].to(device), batch["fov_mask"].to(device))
+    logits, cosines = model.scored(image, context)
+    loss = masked_bce(logits, batch["costmap"].to(device), batch["fov_mask"].to(device))
+    if match_weight > 0:
+        pairs = batch["pairs"].to(device)
+        loss = loss + match_weight * matching_loss(cosines, model.matcher.log_temperature.exp(),
+                                                   batch["labels"].to(device), torch.cat([pairs[:, :, 0], pairs[:, :, 1]], 1))
+    return loss
 
 
 @torch.no_grad()
@@ -125,8 +131,8 @@ def _write_log(rows: list[dict], path: Path) -> None:
 def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet:
     """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
     path = Path(path)
-    # models saved before ``match_channels`` existed have no texture matcher
-    return load_network(path, lambda saved: build_model(PacerModelParams(**{"match_channels": (),
+    # models saved before ``match_channels`` existed have no texture matcher, before ``match_dilated`` a pooled one
+    return load_network(path, lambda saved: build_model(PacerModelParams(**{"match_channels": (), "match_dilated": False,
                                                                             **saved["model_config"]}),
                                                         context_pairs=saved["context_pairs"]),
                         f"pacer_{path.parent.name}", device)
@@ -228,6 +234,10 @@ def train_phase(
     if train_cfg.select_on == "map_windows" and not select_windows:
         raise ValueError(f"{phase}: pacer.train.select_on = 'map_windows' needs validation map windows "
                          "(selection=Selection(windows), navlab.pacer.map_windows.map_windows); or select on val_loss")
+    if train_cfg.match_loss_weight > 0 and not model_cfg.match_channels:
+        raise ValueError(f"{phase}: pacer.train.match_loss_weight = {train_cfg.match_loss_weight} trains a texture "
+                         "matcher, but pacer.model.match_channels is [] (no matcher); set the weight to 0 or give "
+                         "the matcher channels")
     device = resolve_device(train_cfg.device)
     torch.set_num_threads(train_cfg.threads)
     init_from = Path(run.init_from) if run.init_from is not None else None
@@ -257,7 +267,7 @@ def train_phase(
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
         for batch in epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers):
-            loss = batch_loss(model, batch, device)
+            loss = batch_loss(model, batch, device, train_cfg.match_loss_weight)
             descend(loss, optimiser, schedule)
             losses.append(loss.item())
         val = validation_loss(model, val_items, train_cfg.batch_size, device)

@@ -94,6 +94,9 @@ class PacerModelParams:
     context_dim: Annotated[int, between(1)]  # the preference embedding
     fusion: Literal["film", "concat_mlp"]  # film: every decoder stage; concat_mlp: the released code's
     match_channels: Annotated[tuple[int, ...], between(1)]  # texture tower matching image to context patches; [] = none
+    # the tower keeps full resolution (dilations 1, 2, 4, ...) instead of pooling 2 x 2 per stage (issue 24: a
+    # pooled tower mixes a 1-3 px sidewalk's features with its neighbours')
+    match_dilated: bool
 
 
 @section
@@ -119,6 +122,8 @@ class PacerTrainParams:
     # street maps, the loss breaking ties; tracks navigation, issue 24) or val_loss (the validation loss alone)
     select_on: Literal["map_windows", "val_loss"]
     select_windows: Annotated[int, between(1)]  # validation map windows scored after every epoch (map_windows)
+    # weight of the matcher's matching loss beside Eq. 3 (pacer.loss.matching_loss); 0: Eq. 3 alone (as the paper)
+    match_loss_weight: Annotated[float, between(0.0)]
 
 
 @section
