@@ -406,8 +406,12 @@ def test_a_frontier_goes_on_once_and_takes_a_total_budget():
     with pytest.raises(ValueError, match="below the 3 expansions"):
         resume(frontier, 2)
     assert resume(frontier, 10**6).found
+    assert frontier.state is None and frontier.expansions == 3  # spent arrays, the count it stopped at kept
     with pytest.raises(ValueError, match="resumed already"):
         resume(frontier, 10**6)
+    second = resume(search(spec, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, h, budget=Budget(max_expansions=3),
+                           keep_frontier=True).frontier, 5)
+    assert second.frontier.expansions == 5 and second.frontier.state.counts[3] == 5  # the state's fields by name
     assert search(spec, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, h, budget=Budget(max_expansions=3)).frontier is None
 
 

@@ -547,17 +547,36 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             (g, best, st, parent, prim, cell, hval, tn, heap_k, heap_g, heap_c, sol_i, sol_f, counts, reals))
 
 
-def _fresh_state(n_cells: int, incumbent: float = math.inf) -> tuple:
+class SearchState(NamedTuple):
+    """The compiled search's arrays, as it leaves them (``_search`` unpacks them in this order and returns them
+    grown and updated): what a stopped search needs to go on (``resume``)."""
+
+    g: np.ndarray  # the best cost found per lattice cell
+    best: np.ndarray  # the node holding it (-1: none)
+    st: np.ndarray  # nodes: (x index, y index, speed level, heading bin) as floats
+    parent: np.ndarray
+    prim: np.ndarray  # the primitive that reached the node
+    cell: np.ndarray
+    hval: np.ndarray  # the node's heuristic value
+    tn: np.ndarray  # the node's time after the start
+    heap_k: np.ndarray  # OPEN: keys, g, nodes
+    heap_g: np.ndarray
+    heap_c: np.ndarray
+    sol_i: np.ndarray  # per solution: the expansions at which it was found
+    sol_f: np.ndarray  # per solution: seconds, cost, proven bound
+    counts: np.ndarray  # nodes, OPEN, solutions, expansions, heuristic evals, pruner evals, goal node
+    reals: np.ndarray  # G (ANA*'s incumbent cost), seconds spent
+
+
+def _fresh_state(n_cells: int, incumbent: float = math.inf) -> SearchState:
     """An empty search: no g per cell, room for 2^14 nodes and OPEN entries (both grow), no solutions, and
     ANA*'s incumbent cost G (``search``'s ``upper_bound``)."""
     cap = 1 << 14
-    return (np.full(n_cells, np.inf), np.full(n_cells, -1, np.int64),
-            np.empty((cap, 4)), np.empty(cap, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int64),
-            np.empty(cap), np.empty(cap),  # st, parent, prim, cell, hval, tn (the node's time after the start)
-            np.empty(cap), np.empty(cap), np.empty(cap, np.int64),  # OPEN: keys, g, nodes
-            np.zeros(MAX_SOLUTIONS, np.int64), np.zeros((MAX_SOLUTIONS, 3)),  # expansions; seconds, cost, bound
-            np.array([0, 0, 0, 0, 0, 0, -1], np.int64),  # nodes, OPEN, solutions, expansions, h, pruner evals, goal
-            np.array([incumbent, 0.0]))  # G (ANA*'s incumbent cost), seconds spent
+    return SearchState(np.full(n_cells, np.inf), np.full(n_cells, -1, np.int64),
+                       np.empty((cap, 4)), np.empty(cap, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int64),
+                       np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap), np.empty(cap, np.int64),
+                       np.zeros(MAX_SOLUTIONS, np.int64), np.zeros((MAX_SOLUTIONS, 3)),
+                       np.array([0, 0, 0, 0, 0, 0, -1], np.int64), np.array([incumbent, 0.0]))
 
 
 def _dims(spec: LatticeSpec, bounds) -> np.ndarray:
@@ -665,11 +684,8 @@ class Frontier:
     root_controls: np.ndarray
     budget: Budget
     inputs: tuple  # the compiled search's start, goal, tables and bundles (``search`` builds them)
-    state: tuple | None  # ``_fresh_state``'s arrays as the search left them; None once resumed
-
-    @property
-    def expansions(self) -> int:
-        return -1 if self.state is None else int(self.state[-2][3])
+    state: SearchState | None  # the search's arrays as it left them; None once resumed (they go on once)
+    expansions: int = 0  # spent when it stopped
 
 
 def resume(frontier: Frontier, max_expansions: int) -> SearchResult:
@@ -690,9 +706,10 @@ def _go_on(frontier: Frontier, max_expansions: int, keep: bool) -> SearchResult:
     """Run the compiled search from ``frontier``'s state up to ``max_expansions`` in all; its SearchResult."""
     state, frontier.state = frontier.state, None
     budget = frontier.budget
-    status, stopped, prims, state = _search(*frontier.inputs, (bool(budget.anytime), max_expansions,
-                                                                 float(budget.time_limit_s)), state)
-    counts, sol_i, sol_f = state[-2], state[-4], state[-3]
+    status, stopped, prims, arrays = _search(*frontier.inputs, (bool(budget.anytime), max_expansions,
+                                                                  float(budget.time_limit_s)), state)
+    state = SearchState(*arrays)
+    counts, sol_i, sol_f = state.counts, state.sol_i, state.sol_f
     n_sol = int(counts[2])
     spec, costmap = frontier.spec, frontier.costmap
     start, _, table, root = frontier.inputs[:4]
@@ -703,11 +720,11 @@ def _go_on(frontier: Frontier, max_expansions: int, keep: bool) -> SearchResult:
         controls[0] = frontier.root_controls[prims[0]]
     return SearchResult(
         status=STATUS[status], cost=cost, expansions=int(counts[3]),
-        controls=controls, states=states, seconds=float(state[-1][1]),
+        controls=controls, states=states, seconds=float(state.reals[1]),
         heuristic_evals=int(counts[4]), pruner_evals=int(counts[5]),
         solution_expansions=[int(e) for e in sol_i[:n_sol]], solution_seconds=[float(t) for t in sol_f[:n_sol, 0]],
         solution_costs=[float(c) for c in sol_f[:n_sol, 1]], solution_bounds=[float(b) for b in sol_f[:n_sol, 2]],
-        frontier=replace(frontier, state=state) if keep and stopped else None)
+        frontier=replace(frontier, state=state, expansions=int(counts[3])) if keep and stopped else None)
 
 
 def zero_heuristic() -> Heuristic:
