@@ -370,6 +370,22 @@ def test_no_street_windows_leaves_every_item_as_before(bank, smoke_params, smoke
         assert all(np.array_equal(a[k], b[k]) for k in a)
 
 
+def test_heldout_bev_sets_stay_procedural_whatever_share_of_training_items_are_street_windows(bank, smoke_params):
+    """The pair agreement's held-out BEV sets (``experiments.heldout_bev_params``) are the items a training mix
+    without street windows draws: the same images and contexts, no SuReNav maps needed; nothing else changes."""
+    from navlab.pacer.experiments import heldout_bev_params
+
+    data = smoke_params.pacer.data
+    streets = _with_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=0.5))
+    with pytest.raises(ValueError, match="needs the SuReNav maps"):
+        evaluation_dataset(streets, None, "seen", "realistic", bank=bank)
+    heldout = heldout_bev_params(streets)
+    assert heldout == smoke_params  # street_windows back to 0, every other parameter as given
+    ours, plain = (evaluation_dataset(p, None, "seen", "realistic", bank=bank) for p in (heldout, smoke_params))
+    for a, b in zip(_items(ours, 4), _items(plain, 4), strict=True):
+        assert all(np.array_equal(a[k], b[k]) for k in a)
+
+
 def test_context_targets_rank_every_terrain_the_context_was_drawn_over(bank, smoke_params):
     """A terrain's target cost is its rank in the whole superset ordering, not among its window neighbours."""
     params = _with_data(smoke_params, train_target="context", train_context="superset")
