@@ -140,6 +140,45 @@ def test_edited_training_code_retrains_instead_of_resuming(pacer_smoke, tmp_path
     assert rebuilt != old  # the loss edit changed the weights, so the old model was not kept
 
 
+def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resuming(tmp_path):
+    """DVC re-runs a phase when pacer.data or data/ changes, and the phases' outputs persist: the checkpoint
+    must key on what the datasets read, or the re-run resumes the finished run and returns its weights."""
+    from navlab.core.params import load_params
+    from navlab.pacer.artifacts import phase_inputs
+    from navlab.pacer.train import run_key
+
+    data = tmp_path / "data"
+    for path, text in (("raw/terrain/grass/a.jpg", "g"), ("surenav/maps/train/m0.npz", "m")):
+        (data / path).parent.mkdir(parents=True, exist_ok=True)
+        (data / path).write_text(text)
+    base = load_params("default")
+    streets = base.pacer.data.layout.street_windows
+    assert streets > 0
+
+    def with_data(**change):
+        layout = dataclasses.replace(base.pacer.data.layout, **change.pop("layout", {}))
+        pacer_data = dataclasses.replace(base.pacer.data, layout=layout, **change)
+        return dataclasses.replace(base, pacer=dataclasses.replace(base.pacer, data=pacer_data))
+
+    def key(params):
+        p = params.pacer
+        return run_key(p.model, p.train, seed=p.seed, phase="phase1", epochs=1, sizes=[1], init_from=None,
+                       code="c", inputs=phase_inputs(params, data))
+
+    first = key(base)
+    assert key(with_data()) == first  # the same data: the finished run resumes
+    assert key(with_data(layout={"street_windows": streets / 2})) != first
+    assert key(with_data(n_pairs=base.pacer.data.n_pairs + 1)) != first
+    (data / "surenav/maps/train/m0.npz").write_text("edited")
+    assert key(base) != first  # the street maps training windows are cut from
+    no_streets = with_data(layout={"street_windows": 0.0})
+    before = key(no_streets)
+    (data / "surenav/maps/train/m0.npz").write_text("edited again")
+    assert key(no_streets) == before  # without street windows the maps are not read
+    (data / "raw/terrain/grass/a.jpg").write_text("another photograph")
+    assert key(no_streets) != before
+
+
 # --- HJ grids --------------------------------------------------------------------------------------------------
 
 

@@ -14,7 +14,7 @@ from navlab.core.seeding import rng
 from navlab.pacer.baselines.semantic_classifier import train_classifier
 from navlab.pacer.baselines.sterling import SterlingEncoder, augment, train_sterling, vicreg_loss
 from navlab.pacer.checkpoints import read_summary
-from navlab.pacer.loss import masked_bce, matching_loss
+from navlab.pacer.loss import contrast_loss, masked_bce, matching_loss
 from navlab.pacer.model import build_model
 from navlab.pacer.train import (
     PhaseRun,
@@ -115,6 +115,32 @@ def test_matching_loss_is_the_prototypical_cross_entropy_over_shown_pixels():
     fine = torch.nn.functional.interpolate(coarse, size=(4, 4), mode="bilinear", align_corners=False)
     grid = torch.tensor([[[0, 1, 2, 3]] * 4])
     assert float(matching_loss(coarse, T, grid, terrains)) == pytest.approx(float(matching_loss(fine, T, grid, terrains)))
+
+
+def test_contrast_loss_is_the_mean_hinge_over_ordered_terrain_pairs():
+    """Analytic value: terrains at target costs 0, 0.5, 1 all predicted 0.5 cost the mean of the hinges
+    0.5, 1, 0.5 (margin 1) or 0.25, 0.5, 0.25 (margin 0.5); pixels out of view add nothing; a pair separated by
+    its margin costs 0; two items that order the same look-alike terrains both ways push neither (the hinge
+    is flat where the order cannot be told); no ordered pair is 0 with zero gradient; gradcheck."""
+    labels = torch.tensor([[[0, 0, 1, 1, 2, 2, -1]]])
+    target = torch.tensor([[[0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 0.0]]], dtype=torch.float64)
+    logits = torch.zeros(1, 1, 7, dtype=torch.float64)
+    assert float(contrast_loss(logits, target, labels)) == pytest.approx(2 / 3, rel=1e-12)
+    assert float(contrast_loss(logits, target, labels, margin=0.5)) == pytest.approx(1 / 3, rel=1e-12)
+    logits[..., -1] = 50.0  # out of view
+    assert float(contrast_loss(logits, target, labels)) == pytest.approx(2 / 3, rel=1e-12)
+    apart = torch.tensor([[[-9.0, -9.0, 0.0, 0.0, 9.0, 9.0, 0.0]]], dtype=torch.float64)
+    assert float(contrast_loss(apart, target, labels, margin=0.9)) == 0.0
+    shared = torch.tensor([[[0.3, 0.3, -0.2, -0.2]]], dtype=torch.float64, requires_grad=True)  # one look, two items
+    pair_target = torch.tensor([[[0.0, 0.0, 1.0, 1.0]], [[1.0, 1.0, 0.0, 0.0]]], dtype=torch.float64)
+    contrast_loss(shared.expand(2, 1, 4), pair_target, torch.tensor([[[0, 0, 1, 1]]] * 2)).backward()
+    assert torch.allclose(shared.grad, torch.zeros_like(shared), atol=1e-15)
+    one = torch.zeros(1, 1, 4, dtype=torch.float64, requires_grad=True)
+    none = contrast_loss(one, torch.zeros(1, 1, 4, dtype=torch.float64), torch.tensor([[[0, 0, -1, 3]]]))
+    none.backward()
+    assert float(none.detach()) == 0.0 and bool(torch.all(one.grad == 0))
+    torch.autograd.gradcheck(lambda x: contrast_loss(x, target, labels),
+                             (torch.randn(1, 1, 7, dtype=torch.float64, requires_grad=True),))
 
 
 def test_matching_loss_trains_the_matcher_to_recognise_and_needs_one(smoke, tmp_path):

@@ -7,6 +7,7 @@ Each writes one folder under ``artifacts/pacer/``: ``phase1``-``phase3`` (``mode
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from torch.utils.data import Subset
@@ -14,6 +15,7 @@ from torch.utils.data import Subset
 from navlab.core.fingerprint import files_fingerprint
 from navlab.core.io import require, write_json
 from navlab.core.params import Params
+from navlab.maps.dataset import FOLDER as MAPS_FOLDER
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import pacer_dataset
@@ -36,6 +38,18 @@ def selection_windows(params: Params, data_dir: Path, bank) -> list:
                        params.pacer.train.select_windows, bank)
 
 
+def phase_inputs(params: Params, data_dir: Path) -> dict:
+    """What a phase's checkpoint keys on besides code, model and train parameters (``train.run_key``): the
+    terrain files, the street maps when training items are cut from them, and every ``pacer.data`` parameter
+    (layouts, street windows, photometrics, context draws). The phases' outputs persist so that a killed
+    training resumes; without these, a data-only change would make DVC re-run a phase that then resumed its
+    finished checkpoint and returned the old weights."""
+    data = params.pacer.data
+    return {"terrain": files_fingerprint(require(data_dir, "raw", "terrain")),
+            "street_maps": files_fingerprint(require(data_dir, *MAPS_FOLDER)) if data.layout.street_windows > 0 else None,
+            "data": dataclasses.asdict(data)}
+
+
 def _train(phase: str):
     def step(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
         bank = load_terrain_bank(data_dir, params.pacer.data)
@@ -49,7 +63,7 @@ def _train(phase: str):
             phase_dir(artifacts_dir, phase),
             PhaseRun(phase, getattr(params.pacer.train.epochs, phase), params.pacer.seed, params.pacer.data.n_pairs,
                      phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None),
-            inputs=files_fingerprint(require(data_dir, "raw", "terrain")),
+            inputs=phase_inputs(params, data_dir),
             selection=Selection(selection_windows(params, data_dir, bank), params.pacer.evaluation.cost_scale),
         )
     return step

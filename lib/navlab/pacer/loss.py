@@ -63,3 +63,31 @@ def matching_loss(cosines: torch.Tensor, temperature: torch.Tensor, labels: torc
         return cosines.sum() * 0.0
     log_p = torch.log_softmax(cosines * temperature, dim=1).movedim(1, -1)[shown]  # (pixels shown, 2n)
     return -torch.logsumexp(log_p.masked_fill(~own.movedim(1, -1)[shown], -torch.inf), dim=1).mean()
+
+
+def contrast_loss(logits: torch.Tensor, target: torch.Tensor, labels: torch.Tensor,
+                  margin: float = 1.0) -> torch.Tensor:
+    """Mean over each item's ordered terrain pairs (t_a < t_b) of relu(margin (t_b - t_a) - (ĉ_b - ĉ_a)).
+
+    ĉ is a terrain's mean predicted cost sigmoid(logit) over its pixels in view, t its target cost (issue 24,
+    item 4: full-contrast cost levels). Eq. 3 alone is minimised by hedged costs wherever recognition is
+    uncertain, which compresses the rest:low cost ratio the planner sees; this hinge asks the terrains an item
+    orders to sit at least ``margin`` x their target difference apart, and is flat (no push either way) for a
+    pair whose order the image and context cannot tell, whose two signs cancel. logits, target (B, H, W),
+    labels (B, H, W) terrain ids, negative out of view; 0 with zero gradient when no item orders two terrains."""
+    view = labels >= 0
+    if not bool(view.any()):
+        return logits.sum() * 0.0
+    b, n = logits.shape[0], int(labels.max()) + 1
+    cell = (torch.arange(b, device=labels.device)[:, None, None] * n + labels.clamp_min(0))[view]
+    cost = torch.sigmoid(logits)[view]
+    count = torch.zeros(b * n, dtype=cost.dtype, device=cost.device).index_add(0, cell, torch.ones_like(cost))
+    predicted = (torch.zeros_like(count).index_add(0, cell, cost) / count.clamp_min(1)).reshape(b, n)
+    wanted = torch.zeros_like(count).index_add(0, cell, target[view].to(cost.dtype))
+    wanted = (wanted / count.clamp_min(1)).reshape(b, n)
+    present = (count > 0).reshape(b, n)
+    gap = wanted[:, None, :] - wanted[:, :, None]  # [i, a, b] = t_b - t_a
+    ordered = present[:, :, None] & present[:, None, :] & (gap > 1e-6)
+    if not bool(ordered.any()):
+        return logits.sum() * 0.0
+    return torch.relu(margin * gap - (predicted[:, None, :] - predicted[:, :, None]))[ordered].mean()

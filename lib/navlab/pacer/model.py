@@ -132,9 +132,10 @@ class TextureMatcher(nn.Module):
     strip 1-3 px wide keeps features of its own (with a 2×2 pool per stage, stride ``s = 2 ** len(channels)``
     and a 3×3 local mean, a strip's features were mostly its neighbours': on the evaluation maps, whose
     pixels lie within 4 px of another terrain for about half of them, the nearest patch was right for 0.63 of
-    those against 0.94 inside regions; benchmarks/pacer_texture_towers.py). Both are projected, centred on the mean of the context's
-    2n patch features (what the context's terrains share says nothing about which one a location is:
-    uncentred ReLU features all point one way, cosines near 1 whatever the terrain) and L2-normalised.
+    those against 0.94 inside regions; benchmarks/pacer_texture_towers.py). Both are projected, centred on
+    the mean of the context's 2n patch features (what the context's terrains share says nothing about which
+    one a location is: uncentred ReLU features all point one way, cosines near 1 whatever the terrain) and
+    L2-normalised.
     Every location attends over the 2n patches by cosine similarity (softmax with a learned
     temperature); the maps are
 

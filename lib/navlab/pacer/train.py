@@ -14,9 +14,11 @@ are told the epoch (``set_epoch``) so each epoch sees fresh images; so a run res
 the batches an uninterrupted run would have seen and ends at the same weights.
 
 Files in a phase's folder: ``checkpoint.pt`` (after every epoch, atomic), ``model.pt`` (the best
-weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`: train and validation loss
-and the map-window score, NaN when not measured), ``summary.json`` (best epoch, its validation loss beside the
-entropy floor of the validation targets, what it was selected on and its score). The checkpoint is keyed on
+weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plots`: the training loss, Eq. 3
+plus the matching and contrast losses (``ExtraLosses``); the validation loss, Eq. 3 alone, so that it reads
+against the entropy floor; and the map-window score, NaN when not measured), ``summary.json`` (best epoch,
+its validation loss beside the entropy floor of the validation targets, what it was selected on and its
+score). The checkpoint is keyed on
 ``run_key``: the code fingerprint of the training and dataset modules, every parameter that shapes the
 weights (epochs included, so fewer epochs give the shorter model), the inputs and the initial weights;
 only a run of the same key resumes.
@@ -40,7 +42,7 @@ from navlab.core.params.pacer import PacerModelParams, PacerTrainParams
 from navlab.core.seeding import rng
 from navlab.core.training import TrainingRun, cosine_schedule, descend, fit, save_torch
 from navlab.pacer.checkpoints import load_network
-from navlab.pacer.loss import entropy_floor, masked_bce, matching_loss
+from navlab.pacer.loss import contrast_loss, entropy_floor, masked_bce, matching_loss
 from navlab.pacer.map_windows import MapWindow, selection_score
 from navlab.pacer.model import PacerNet, build_model
 
@@ -65,18 +67,35 @@ def epoch_draws(sizes: Sequence[int], count: int, seed: int, phase: str, epoch: 
     return list(zip(which.tolist(), index.tolist()))
 
 
-def batch_loss(model: PacerNet, batch: dict[str, torch.Tensor], device, match_weight: float = 0.0) -> torch.Tensor:
-    """Masked BCE of one batch (Eq. 3), plus ``match_weight`` x the matcher's matching loss; images and contexts
-    go in channels-last, the layout in which the CPU (oneDNN) convolutions of a channels-last model run
-    fastest (1.4x per training step, default profile)."""
+@dataclasses.dataclass(frozen=True)
+class ExtraLosses:
+    """The losses ours adds beside Eq. 3 (``pacer.train``; all 0 in the paper's recipe)."""
+
+    match_weight: float = 0.0  # the matcher's matching loss (pacer.loss.matching_loss)
+    contrast_weight: float = 0.0  # the terrain-contrast hinge (pacer.loss.contrast_loss)
+    contrast_margin: float = 1.0
+
+    @classmethod
+    def of(cls, train_cfg: PacerTrainParams) -> ExtraLosses:
+        return cls(train_cfg.match_loss_weight, train_cfg.contrast_loss_weight, train_cfg.contrast_margin)
+
+
+def batch_loss(model: PacerNet, batch: dict[str, torch.Tensor], device,
+               extra: ExtraLosses = ExtraLosses()) -> torch.Tensor:
+    """Masked BCE of one batch (Eq. 3), plus the ``extra`` losses; images and contexts go in channels-last,
+    the layout in which the CPU (oneDNN) convolutions of a channels-last model run fastest (1.4x per
+    training step, default profile)."""
     image, context = (batch[k].to(device, torch.float32, memory_format=torch.channels_last)
                       for k in ("image", "context"))
     logits, cosines = model.scored(image, context)
-    loss = masked_bce(logits, batch["costmap"].to(device), batch["fov_mask"].to(device))
-    if match_weight > 0:
+    target, labels = batch["costmap"].to(device), batch["labels"].to(device)
+    loss = masked_bce(logits, target, batch["fov_mask"].to(device))
+    if extra.match_weight > 0:
         pairs = batch["pairs"].to(device)
-        loss = loss + match_weight * matching_loss(cosines, model.matcher.log_temperature.exp(),
-                                                   batch["labels"].to(device), torch.cat([pairs[:, :, 0], pairs[:, :, 1]], 1))
+        loss = loss + extra.match_weight * matching_loss(cosines, model.matcher.log_temperature.exp(), labels,
+                                                         torch.cat([pairs[:, :, 0], pairs[:, :, 1]], 1))
+    if extra.contrast_weight > 0:
+        loss = loss + extra.contrast_weight * contrast_loss(logits, target, labels, extra.contrast_margin)
     return loss
 
 
@@ -267,7 +286,7 @@ def train_phase(
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
         for batch in epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers):
-            loss = batch_loss(model, batch, device, train_cfg.match_loss_weight)
+            loss = batch_loss(model, batch, device, ExtraLosses.of(train_cfg))
             descend(loss, optimiser, schedule)
             losses.append(loss.item())
         val = validation_loss(model, val_items, train_cfg.batch_size, device)

@@ -124,6 +124,9 @@ class PacerTrainParams:
     select_windows: Annotated[int, between(1)]  # validation map windows scored after every epoch (map_windows)
     # weight of the matcher's matching loss beside Eq. 3 (pacer.loss.matching_loss); 0: Eq. 3 alone (as the paper)
     match_loss_weight: Annotated[float, between(0.0)]
+    # weight of the terrain-contrast hinge beside Eq. 3 (pacer.loss.contrast_loss, issue 24 item 4); 0: Eq. 3 alone
+    contrast_loss_weight: Annotated[float, between(0.0)]
+    contrast_margin: Annotated[float, between(0.0, 1.0)]  # terrains sit >= this x their target cost gap apart
 
 
 @section
