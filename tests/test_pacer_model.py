@@ -143,6 +143,30 @@ def test_contrast_loss_is_the_mean_hinge_over_ordered_terrain_pairs():
                              (torch.randn(1, 1, 7, dtype=torch.float64, requires_grad=True),))
 
 
+@pytest.mark.parametrize("share, weight, gap", [(0.5, 1.0, (0.0, 0.0)), (0.8, 0.0, (0.6, 0.6)),
+                                                  (0.8, 1.0, (0.7, 1.0)), (0.8, 3.0, (0.85, 1.0))])
+def test_contrast_hinge_widens_a_majority_order_and_leaves_a_tie_alone(share, weight, gap):
+    """Two terrains one look apiece (one cost each) over 10 items, terrain 0 preferred in ``share`` of them:
+    Eq. 3 alone is minimised at the calibrated costs (gap 2 share - 1: 0.6 at 0.8); the hinge widens a
+    majority's gap towards the full target gap of 1 and leaves a 50/50 tie at Eq. 3's optimum (no gap)."""
+    z = torch.zeros(2, dtype=torch.float64, requires_grad=True)
+    k = round(10 * share)
+    target = torch.tensor([[[0.0, 1.0]]] * k + [[[1.0, 0.0]]] * (10 - k), dtype=torch.float64)
+    labels, fov = torch.tensor([[[0, 1]]] * 10), torch.ones(10, 1, 2, dtype=torch.bool)
+    optimiser = torch.optim.LBFGS([z], max_iter=500, line_search_fn="strong_wolfe")
+
+    def closure():
+        optimiser.zero_grad()
+        logits = z.expand(10, 1, 2)
+        loss = masked_bce(logits, target, fov) + weight * contrast_loss(logits, target, labels)
+        loss.backward()
+        return loss
+
+    optimiser.step(closure)
+    cost = torch.sigmoid(z).detach()
+    assert gap[0] - 1e-4 <= float(cost[1] - cost[0]) <= gap[1] + 1e-4
+
+
 def test_matching_loss_trains_the_matcher_to_recognise_and_needs_one(smoke, tmp_path):
     """Trained by the matching loss alone (no cost targets), a fresh matcher's nearest context patch comes to name
     the right terrain for more pixels of held-out items than at the start; asking for the loss without a matcher
