@@ -157,6 +157,30 @@ def test_contrast_loss_charges_a_pixel_on_the_wrong_side_of_the_other_terrains_l
     assert bool(torch.all(logits.grad[0, 0, 2:] <= 0.0))
 
 
+def test_contrast_loss_matches_a_loop_over_pixels_and_terrains():
+    """The vectorised hinge (each item's terrains packed into slots) equals the definition written as loops, on
+    random batches with out-of-view pixels and terrain ids that repeat across items."""
+    gen = torch.Generator().manual_seed(0)
+    for _ in range(4):
+        labels = torch.randint(-1, 9, (3, 5, 6), generator=gen)
+        target = torch.rand(9, generator=gen, dtype=torch.float64)[labels.clamp_min(0)]
+        logits = torch.randn(3, 5, 6, generator=gen, dtype=torch.float64)
+        cost, terms = torch.sigmoid(logits), []
+        for i in range(3):
+            terrains = [int(t) for t in labels[i].unique() if t >= 0]
+            level = {t: cost[i][labels[i] == t].mean() for t in terrains}
+            wanted = {t: target[i][labels[i] == t].mean() for t in terrains}
+            for r, c in torch.nonzero(labels[i] >= 0).tolist():
+                own = int(labels[i, r, c])
+                for other in terrains:
+                    gap = float(wanted[other] - wanted[own])
+                    if abs(gap) > 1e-6:
+                        apart = (1 if gap > 0 else -1) * (level[other] - cost[i, r, c])
+                        terms.append(torch.relu(0.7 * abs(gap) - apart))
+        expected = torch.stack(terms).mean()
+        assert float(contrast_loss(logits, target, labels, margin=0.7)) == pytest.approx(float(expected), rel=1e-12)
+
+
 @pytest.mark.parametrize("share, weight, gap", [(0.5, 1.0, (0.0, 0.0)), (0.8, 0.0, (0.6, 0.6)),
                                                   (0.8, 1.0, (0.7, 1.0)), (0.8, 3.0, (0.85, 1.0))])
 def test_contrast_hinge_widens_a_majority_order_and_leaves_a_tie_alone(share, weight, gap):
