@@ -148,7 +148,8 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
     from navlab.pacer.train import run_key
 
     data = tmp_path / "data"
-    for path, text in (("raw/terrain/grass/a.jpg", "g"), ("surenav/maps/train/m0.npz", "m")):
+    for path, text in (("raw/terrain/grass/a.jpg", "g"), ("surenav/maps/train/m0.npz", "m"),
+                       ("surenav/maps/val/m1.npz", "v"), ("surenav/maps/test/m2.npz", "t")):
         (data / path).parent.mkdir(parents=True, exist_ok=True)
         (data / path).write_text(text)
     base = load_params("default")
@@ -171,6 +172,9 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
     assert key(with_data(n_pairs=base.pacer.data.n_pairs + 1)) != first
     (data / "surenav/maps/train/m0.npz").write_text("edited")
     assert key(base) != first  # the street maps training windows are cut from
+    edited = key(base)
+    (data / "surenav/maps/test/m2.npz").write_text("edited")
+    assert key(base) == edited  # the test tiles (the evaluation maps) are never cut into training items
     no_streets = with_data(layout={"street_windows": 0.0})
     before = key(no_streets)
     (data / "surenav/maps/train/m0.npz").write_text("edited again")

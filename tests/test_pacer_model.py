@@ -117,9 +117,9 @@ def test_matching_loss_is_the_prototypical_cross_entropy_over_shown_pixels():
     assert float(matching_loss(coarse, T, grid, terrains)) == pytest.approx(float(matching_loss(fine, T, grid, terrains)))
 
 
-def test_contrast_loss_is_the_mean_hinge_over_ordered_terrain_pairs():
-    """Analytic value: terrains at target costs 0, 0.5, 1 all predicted 0.5 cost the mean of the hinges
-    0.5, 1, 0.5 (margin 1) or 0.25, 0.5, 0.25 (margin 0.5); pixels out of view add nothing; a pair separated by
+def test_contrast_loss_is_the_mean_hinge_over_pixels_and_the_terrains_their_item_orders():
+    """Analytic value: terrains at target costs 0, 0.5, 1 all predicted 0.5 cost the mean of each pixel's hinges
+    (0.5, 1), (0.5, 0.5), (1, 0.5): 2/3 (margin 1) or 1/3 (margin 0.5); pixels out of view add nothing; a pair separated by
     its margin costs 0; two items that order the same look-alike terrains both ways push neither (the hinge
     is flat where the order cannot be told); no ordered pair is 0 with zero gradient; gradcheck."""
     labels = torch.tensor([[[0, 0, 1, 1, 2, 2, -1]]])
@@ -141,6 +141,44 @@ def test_contrast_loss_is_the_mean_hinge_over_ordered_terrain_pairs():
     assert float(none.detach()) == 0.0 and bool(torch.all(one.grad == 0))
     torch.autograd.gradcheck(lambda x: contrast_loss(x, target, labels),
                              (torch.randn(1, 1, 7, dtype=torch.float64, requires_grad=True),))
+
+
+def test_contrast_loss_charges_a_pixel_on_the_wrong_side_of_the_other_terrains_level():
+    """Terrain means 0.3 and 1.0 are a margin 0.5 apart, yet one cheap-terrain pixel at cost 0.6 sits only
+    0.4 below the costly terrain's mean: it alone is charged (0.1 over the 4 pixel-terrain terms) and only it is
+    pushed down, the costly terrain's pixels up; a path follows pixels, not terrain means."""
+    costs = torch.tensor([[[0.0, 0.6, 1.0 - 1e-9, 1.0 - 1e-9]]], dtype=torch.float64)
+    logits = torch.logit(costs).requires_grad_(True)
+    target = torch.tensor([[[0.0, 0.0, 1.0, 1.0]]], dtype=torch.float64)
+    loss = contrast_loss(logits, target, torch.tensor([[[0, 0, 1, 1]]]), margin=0.5)
+    assert float(loss.detach()) == pytest.approx(0.1 / 4, rel=1e-6)
+    loss.backward()
+    assert float(logits.grad[0, 0, 0]) == 0.0 and float(logits.grad[0, 0, 1]) > 0.0
+    assert bool(torch.all(logits.grad[0, 0, 2:] <= 0.0))
+
+
+def test_contrast_loss_matches_a_loop_over_pixels_and_terrains():
+    """The vectorised hinge (each item's terrains packed into slots) equals the definition written as loops, on
+    random batches with out-of-view pixels and terrain ids that repeat across items."""
+    gen = torch.Generator().manual_seed(0)
+    for _ in range(4):
+        labels = torch.randint(-1, 9, (3, 5, 6), generator=gen)
+        target = torch.rand(9, generator=gen, dtype=torch.float64)[labels.clamp_min(0)]
+        logits = torch.randn(3, 5, 6, generator=gen, dtype=torch.float64)
+        cost, terms = torch.sigmoid(logits), []
+        for i in range(3):
+            terrains = [int(t) for t in labels[i].unique() if t >= 0]
+            level = {t: cost[i][labels[i] == t].mean() for t in terrains}
+            wanted = {t: target[i][labels[i] == t].mean() for t in terrains}
+            for r, c in torch.nonzero(labels[i] >= 0).tolist():
+                own = int(labels[i, r, c])
+                for other in terrains:
+                    gap = float(wanted[other] - wanted[own])
+                    if abs(gap) > 1e-6:
+                        apart = (1 if gap > 0 else -1) * (level[other] - cost[i, r, c])
+                        terms.append(torch.relu(0.7 * abs(gap) - apart))
+        expected = torch.stack(terms).mean()
+        assert float(contrast_loss(logits, target, labels, margin=0.7)) == pytest.approx(float(expected), rel=1e-12)
 
 
 @pytest.mark.parametrize("share, weight, gap", [(0.5, 1.0, (0.0, 0.0)), (0.8, 0.0, (0.6, 0.6)),

@@ -18,7 +18,7 @@ from navlab.core.params import Params
 from navlab.maps.dataset import FOLDER as MAPS_FOLDER
 from navlab.pacer.baselines.semantic_classifier import save_classifier, train_classifier
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
-from navlab.pacer.datasets import pacer_dataset
+from navlab.pacer.datasets import STREET_SPLIT, pacer_dataset
 from navlab.pacer.map_windows import map_windows
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import PHASE_DATASETS, PHASES, PhaseRun, Selection, resolve_device, train_phase
@@ -40,13 +40,15 @@ def selection_windows(params: Params, data_dir: Path, bank) -> list:
 
 def phase_inputs(params: Params, data_dir: Path) -> dict:
     """What a phase's checkpoint keys on besides code, model and train parameters (``train.run_key``): the
-    terrain files, the street maps when training items are cut from them, and every ``pacer.data`` parameter
+    terrain files, the street maps of the splits training items are cut from (train, val; never test), and every ``pacer.data`` parameter
     (layouts, street windows, photometrics, context draws). The phases' outputs persist so that a killed
     training resumes; without these, a data-only change would make DVC re-run a phase that then resumed its
     finished checkpoint and returned the old weights."""
     data = params.pacer.data
     return {"terrain": files_fingerprint(require(data_dir, "raw", "terrain")),
-            "street_maps": files_fingerprint(require(data_dir, *MAPS_FOLDER)) if data.layout.street_windows > 0 else None,
+            "street_maps": ({split: files_fingerprint(require(data_dir, *MAPS_FOLDER, split))
+                             for split in sorted(set(STREET_SPLIT.values()))}
+                            if data.layout.street_windows > 0 else None),
             "data": dataclasses.asdict(data)}
 
 

@@ -279,6 +279,8 @@ def train_phase(
     optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
     schedule = cosine_schedule(optimiser, epochs * steps_per_epoch, train_cfg.lr_final_fraction)
 
+    extra = ExtraLosses.of(train_cfg)
+
     def train_epoch(epoch: int) -> dict[str, float]:
         for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
             if hasattr(ds, "set_epoch"):
@@ -286,7 +288,7 @@ def train_phase(
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
         for batch in epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers):
-            loss = batch_loss(model, batch, device, ExtraLosses.of(train_cfg))
+            loss = batch_loss(model, batch, device, extra)
             descend(loss, optimiser, schedule)
             losses.append(loss.item())
         val = validation_loss(model, val_items, train_cfg.batch_size, device)
