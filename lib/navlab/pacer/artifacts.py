@@ -40,10 +40,10 @@ def selection_windows(params: Params, data_dir: Path, bank) -> list:
 
 def phase_inputs(params: Params, data_dir: Path) -> dict:
     """What a phase's checkpoint keys on besides code, model and train parameters (``train.run_key``): the
-    terrain files, the street maps of the splits training items are cut from (train, val; never test), and every ``pacer.data`` parameter
-    (layouts, street windows, photometrics, context draws). The phases' outputs persist so that a killed
-    training resumes; without these, a data-only change would make DVC re-run a phase that then resumed its
-    finished checkpoint and returned the old weights."""
+    terrain files, the street maps of the splits training items are cut from (train, val; never test), and
+    every ``pacer.data`` parameter (layouts, street windows, photometrics, context draws). The phases'
+    outputs persist so that a killed training resumes; without these, a data-only change would make DVC
+    re-run a phase that then resumed its finished checkpoint and returned the old weights."""
     data = params.pacer.data
     return {"terrain": files_fingerprint(require(data_dir, "raw", "terrain")),
             "street_maps": ({split: files_fingerprint(require(data_dir, *MAPS_FOLDER, split))

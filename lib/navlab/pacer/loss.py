@@ -76,10 +76,11 @@ def contrast_loss(logits: torch.Tensor, target: torch.Tensor, labels: torch.Tens
     this hinge asks every pixel to sit at least ``margin`` x the target difference away from each terrain its
     item orders against its own, on the right side. Per pixel rather than per terrain mean: a path follows
     pixels, and a terrain whose mean is right but whose pixels spread across the other's level still hands
-    the planner cheap cells in costly terrain (on the evaluation maps, replacing PACER's pixels by their
-    terrain's mean alone closes 0.10-0.15 more of the gap). The hinge is flat (no push either way) for a pair
-    whose order the image and context cannot tell, whose two signs cancel. logits, target (B, H, W), labels
-    (B, H, W) terrain ids, negative out of view; 0 with zero gradient when no item orders two terrains."""
+    the planner cheap cells in costly terrain (on the evaluation maps, replacing the per-mean hinge model's
+    pixels by their terrain's mean closed +0.10 / 0 / +0.15 / 0 more of the gap on the four sets). The hinge
+    is flat (no push either way) for a pair whose order the image and context cannot tell, whose two signs
+    cancel. logits, target (B, H, W), labels (B, H, W) terrain ids, negative out of view; 0 with zero
+    gradient when no item orders two terrains."""
     view = labels >= 0
     if not bool(view.any()):
         return logits.sum() * 0.0
@@ -87,9 +88,10 @@ def contrast_loss(logits: torch.Tensor, target: torch.Tensor, labels: torch.Tens
     item = torch.arange(b, device=labels.device)[:, None, None].expand_as(labels)[view]
     # each item's terrains in view as slots 0..k-1 (k: the most any item shows), not every terrain id
     cells, slot_of_pixel = torch.unique(item * n + labels[view], return_inverse=True)
-    slot = torch.arange(len(cells), device=cells.device) - torch.searchsorted(cells, cells // n * n)
+    cell_item = cells // n
+    slot = torch.arange(len(cells), device=cells.device) - torch.searchsorted(cells, cell_item * n)
     k = int(slot.max()) + 1
-    flat = (cells // n) * k + slot  # (cells,) index into (B, k)
+    flat = cell_item * k + slot  # (cells,) index into (B, k)
     pixel_slot = flat[slot_of_pixel]
     cost = torch.sigmoid(logits)[view]
     count = torch.zeros(b * k, dtype=cost.dtype, device=cost.device).index_add(0, pixel_slot, torch.ones_like(cost))
