@@ -72,6 +72,27 @@ def test_a_perfect_segmenter_costs_the_map_as_its_ordering_says():
     np.testing.assert_allclose(costs, target_costmap(labels, ordering), atol=1e-5)
 
 
+def test_a_perfect_segmenter_told_the_context_costs_the_mean_consistent_ranks():
+    """A chain over every terrain decides the order (the costs are the ordering's); pairs naming only other
+    terrains decide nothing (every terrain at the middle rank, 0.5); one pair over three terrains gives the
+    mean ranks by hand: a > b allows (a, b, c), (a, c, b), (c, a, b), so a 1/3, b 5/3, c 1 of ranks 0..2, / 2."""
+    params = load_params("smoke")
+    size = 2 * params.pacer.data.image_size
+    labels = np.kron(np.array([[3, 8], [11, 3]]), np.ones((size // 2, size // 2), dtype=np.int64))
+    image = np.stack([labels / 16.0, np.full(labels.shape, 0.5), np.full(labels.shape, 0.5)]).astype(np.float32)
+    amap = AerialMap(image, labels, np.unique(labels), (0, 0), (size - 1, size - 1))
+    ordering = np.array([8, 11, 3])
+    told = segmenter_method(_ColourReader(), params, told="context")
+    chain = np.array([[8, 11], [11, 3]])
+    np.testing.assert_allclose(told(amap, ordering, None, chain), target_costmap(labels, ordering), atol=1e-5)
+    np.testing.assert_allclose(told(amap, ordering, None, np.array([[5, 4]])), 0.5, atol=1e-5)
+    by_hand = {8: 1 / 6, 11: 5 / 6, 3: 1 / 2}
+    expected = np.vectorize(by_hand.__getitem__)(labels)
+    np.testing.assert_allclose(told(amap, ordering, None, np.array([[8, 11]])), expected, atol=1e-5)
+    with pytest.raises(ValueError, match="told="):
+        segmenter_method(_ColourReader(), params, told="labels")
+
+
 def test_the_segmenter_learns_two_textures_apart(single_thread):
     """Stripes against noise, split by a random diagonal: 100 Adam steps must separate them."""
     torch.manual_seed(0)

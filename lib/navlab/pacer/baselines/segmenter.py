@@ -13,6 +13,12 @@ the stand-in data, below the label-reading window oracle.
 Trained on the seen terrains it is a strong version of the semantic classifier's paradigm (dense, not
 patch votes); trained on the unseen terrains (which PACER never sees) it checks that those terrains are
 recognisable at all. Neither is a paper row: ``benchmarks/pacer_recognition_reference.py`` reports them.
+
+Told only the context's pairs instead (``segmenter_method(..., told="context")``), each terrain of the map
+costs its mean rank over the orderings the pairs allow, as the context-limited oracle's do
+(``preferences.mean_consistent_ranks``): what recognition as good as a dedicated segmenter and a perfect
+follower of the context *with no prior* can reach, PACER D_synthetic's own ceiling (its phase 3 trains on
+random orderings, so it has no prior to fall back on).
 """
 
 from __future__ import annotations
@@ -36,7 +42,7 @@ from navlab.pacer.aerial import AerialMap
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.datasets import STREET_SPLIT, PacerDataset, Recipe
 from navlab.pacer.evaluate import stitch_windows, window_cutter
-from navlab.pacer.preferences import IGNORE, rank_costs
+from navlab.pacer.preferences import IGNORE, mean_consistent_ranks, rank_costs
 from navlab.pacer.terrain import TerrainBank
 
 Terrains = Literal["seen", "unseen"]
@@ -153,34 +159,47 @@ def pixel_recall(model: TerrainSegmenter, dataset, count: int) -> tuple[float, d
     return float(hits.sum() / max(totals.sum(), 1)), recall
 
 
-def expected_rank_costs(probabilities: torch.Tensor, labels: Sequence[int], ordering: np.ndarray) -> torch.Tensor:
-    """(N,H,W) expected cost Σ_l p(l) (rank(l)−1)/(L−1) of (N,K,H,W) label ``probabilities``, the
-    probabilities renormalised over the terrains of ``ordering`` (the map's own: the reference is told
-    which terrains the map has and how the operator ranks them)."""
+def expected_rank_costs(probabilities: torch.Tensor, labels: Sequence[int], ordering: np.ndarray,
+                        costs: np.ndarray | None = None) -> torch.Tensor:
+    """(N,H,W) expected cost Σ_l p(l) c_l of (N,K,H,W) label ``probabilities``, the probabilities
+    renormalised over the terrains of ``ordering`` (the map's own: the reference is told which terrains the
+    map has); c_l = ``costs`` (one per terrain of ``ordering``) or, by default, its rank cost (l−1)/(L−1)."""
     ordering = np.asarray(ordering, dtype=np.int64)
     missing = sorted(set(ordering.tolist()) - set(labels))
     if missing:
         raise ValueError(f"ordering names terrains {missing} the segmenter was not trained on (it knows "
                          f"{list(labels)}); train it on this terrain group")
+    costs = rank_costs(ordering) if costs is None else np.asarray(costs, dtype=np.float32)
+    if costs.shape != ordering.shape:
+        raise ValueError(f"costs {costs.shape} must give one cost per terrain of the ordering {ordering.shape}")
     index = torch.as_tensor([list(labels).index(int(t)) for t in ordering])
     p = probabilities[:, index]
     p = p / p.sum(dim=1, keepdim=True).clamp_min(1e-12)
-    return torch.einsum("nkhw,k->nhw", p, torch.as_tensor(rank_costs(ordering)))
+    return torch.einsum("nkhw,k->nhw", p, torch.as_tensor(costs))
 
 
-def segmenter_method(model: TerrainSegmenter, params: Params, *, overlap: int = 2, batch: int = 32):
-    """A ``pacer.experiments.Method``: the map costed window by window as the expected rank cost under the
-    map's true ordering (the context is ignored), stitched as PACER's costmaps are."""
+def segmenter_method(model: TerrainSegmenter, params: Params, *, told: Literal["ordering", "context"] = "ordering",
+                     overlap: int = 2, batch: int = 32):
+    """A ``pacer.experiments.Method``: the map costed window by window as the expected cost of its terrains,
+    stitched as PACER's costmaps are. ``told`` ordering: each terrain's rank cost under the map's true
+    ordering (the context is ignored); context: its mean rank over the orderings of the map's terrains that
+    the context's pairs allow, scaled to [0, 1] (the context-limited oracle's costs, with predicted labels)."""
+    if told not in ("ordering", "context"):
+        raise ValueError(f"told={told!r}: the segmenter is told the map's 'ordering' or the 'context' pairs")
     data = params.pacer.data
     mask = fov_mask(data.image_size, data.camera.near_width)
 
     @torch.no_grad()
-    def cost(amap: AerialMap, ordering: np.ndarray, _context, _pairs) -> np.ndarray:
+    def cost(amap: AerialMap, ordering: np.ndarray, _context, pairs) -> np.ndarray:
         image = torch.as_tensor(amap.image, dtype=torch.float32)
         cut = window_cutter(image, mask)
+        terrains, costs = np.asarray(ordering, dtype=np.int64), None
+        if told == "context":
+            terrains = np.asarray(amap.terrains, dtype=np.int64)
+            costs = mean_consistent_ranks(terrains, pairs) / max(len(terrains) - 1, 1)
 
         def window_costs(corners):
-            return expected_rank_costs(torch.softmax(model(cut(corners)), dim=1), model.labels, ordering)
+            return expected_rank_costs(torch.softmax(model(cut(corners)), dim=1), model.labels, terrains, costs)
 
         return stitch_windows(window_costs, tuple(image.shape[1:]), mask, overlap=overlap, batch=batch).numpy()
 
