@@ -45,6 +45,7 @@ from navlab.pacer.datasets import evaluation_dataset
 from navlab.pacer.experiments import (
     context_limited_oracle_method,
     ground_truth_method,
+    heldout_bev_params,
     navigation_rows,
     uniform_method,
     window_oracle_method,
@@ -86,7 +87,7 @@ def main() -> None:
     found = []
     for terrains in args.terrains:
         model = train_segmenter(params, args.data_dir, terrains, bank, settings)
-        heldout = evaluation_dataset(params, args.data_dir, terrains, "realistic", bank=bank)
+        heldout = evaluation_dataset(heldout_bev_params(params), args.data_dir, terrains, "realistic", bank=bank)
         accuracy, recall = pixel_recall(model, heldout, P.evaluation.heldout_examples)
         names = {t: bank.terrains[t].name for t in recall}
         print(f"\n{terrains}: pixel accuracy {accuracy:.3f} on {P.evaluation.heldout_examples} held-out BEV items; "
