@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 import torch
@@ -127,3 +132,21 @@ def test_settings_reject_nonsense():
         SegmenterSettings(epochs=0)
     with pytest.raises(ValueError, match="street_windows"):
         SegmenterSettings(street_windows=1.5)
+
+
+def test_the_recognition_reference_script_runs_end_to_end(smoke_data, tmp_path):
+    """benchmarks/pacer_recognition_reference.py on the smoke data (one tiny epoch): it once broke unnoticed when
+    the held-out BEV sets became procedural; every row of both preferences must come back as low-tier shares."""
+    out = tmp_path / "reference.json"
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "pacer_recognition_reference.py"
+    done = subprocess.run([sys.executable, str(script), "--profile", "smoke", "--terrains", "seen", "--epochs", "1",
+                           "--examples", "8", "--threads", "1", "--data-dir", str(smoke_data), "--out", str(out)],
+                          check=False, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    results = json.loads(out.read_text())["results"]
+    assert [r["preference"] for r in results] == ["realistic", "inverted"]
+    for result in results:
+        rows = {row["method"]: row["low"] for row in result["rows"]}
+        assert {"Segmenter told the ordering", "Segmenter told the context's pairs", "Context-limited oracle",
+                "Window oracle (ceiling)", "Uniform costmap (chance)"} <= set(rows)
+        assert all(0.0 <= low <= 1.0 for low in rows.values())
