@@ -120,8 +120,8 @@ def test_matching_loss_is_the_prototypical_cross_entropy_over_shown_pixels():
 def test_contrast_loss_is_the_mean_hinge_over_pixels_and_the_terrains_their_item_orders():
     """Analytic value: terrains at target costs 0, 0.5, 1 all predicted 0.5 cost the mean of each pixel's hinges
     (0.5, 1), (0.5, 0.5), (1, 0.5): 2/3 (margin 1) or 1/3 (margin 0.5); pixels out of view add nothing; a pair
-    separated by its margin costs 0; two items that order the same look-alike terrains both ways push neither (the hinge
-    is flat where the order cannot be told); no ordered pair is 0 with zero gradient; gradcheck."""
+    separated by its margin costs 0; two items that order the same look-alike terrains both ways push neither
+    (the hinge is flat where the order cannot be told); no ordered pair is 0 with zero gradient; gradcheck."""
     labels = torch.tensor([[[0, 0, 1, 1, 2, 2, -1]]])
     target = torch.tensor([[[0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 0.0]]], dtype=torch.float64)
     logits = torch.zeros(1, 1, 7, dtype=torch.float64)

@@ -139,9 +139,9 @@ def test_the_recognition_reference_script_runs_end_to_end(smoke_data, tmp_path):
     the held-out BEV sets became procedural; every row of both preferences must come back as low-tier shares."""
     out = tmp_path / "reference.json"
     script = Path(__file__).resolve().parents[1] / "benchmarks" / "pacer_recognition_reference.py"
-    done = subprocess.run([sys.executable, str(script), "--profile", "smoke", "--terrains", "seen", "--epochs", "1",
-                           "--examples", "8", "--threads", "1", "--data-dir", str(smoke_data), "--out", str(out)],
-                          check=False, capture_output=True, text=True, timeout=600)
+    command = [sys.executable, str(script), "--profile", "smoke", "--terrains", "seen", "--epochs", "1",
+               "--examples", "8", "--threads", "1", "--data-dir", str(smoke_data), "--out", str(out)]
+    done = subprocess.run(command, check=False, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     results = json.loads(out.read_text())["results"]
     assert [r["preference"] for r in results] == ["realistic", "inverted"]
