@@ -6,7 +6,7 @@ cell for that reason). This re-runs the cells with runs first..N-1 (run r draws 
 noise from hj.dynamic.seed + r; runs 0..runs-1 are the tables') and prints each run's successes and
 contacts, so a change can be read against the spread of the same code.
 
-    .venv/bin/python benchmarks/hj_closed_loop_spread.py --first 4 --runs 8 --workers 2
+    .venv/bin/python benchmarks/hj_closed_loop_spread.py --first 4 --runs 8 --workers 2 [--profile default]
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ ARTIFACTS = Path(__file__).resolve().parents[1] / "artifacts"
 
 
 def _cell(job):
-    kind, method, run = job
-    loop = ClosedLoop(load_params(), ARTIFACTS, log=lambda *_: None)
+    profile, artifacts, kind, method, run = job
+    loop = ClosedLoop(load_params(profile), artifacts, log=lambda *_: None)
     if kind == "dense":
         heuristic, pruner = method.split(" + ")
         row = summarise_trips(method, "Dense Room", [loop.room_patrol("dense_room", heuristic, pruner, run)])
@@ -38,9 +38,11 @@ def main() -> None:
     parser.add_argument("--first", type=int, default=0, help="first run index")
     parser.add_argument("--runs", type=int, default=5, help="one past the last run index")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--profile", default=None, help="params.yaml's own profile unless given")
+    parser.add_argument("--artifacts", type=Path, default=ARTIFACTS)
     args = parser.parse_args()
-    jobs = [("dense", f"{h} + {p}", r) for h, p in ROOM_COMBOS for r in range(args.first, args.runs)]
-    jobs += [("humans", m, r) for m in HUMAN_ROWS for r in range(args.first, args.runs)]
+    cells = [("dense", f"{h} + {p}") for h, p in ROOM_COMBOS] + [("humans", m) for m in HUMAN_ROWS]
+    jobs = [(args.profile, args.artifacts, kind, method, r) for kind, method in cells for r in range(args.first, args.runs)]
     with ProcessPoolExecutor(args.workers) as pool:
         results = list(pool.map(_cell, jobs))
     for kind, title in (("dense", "Table VIII, Dense Room"), ("humans", "Table IX, two humans")):

@@ -20,7 +20,7 @@ alone costs it), PACER's gap from the committed table, and the segmenter's pixel
 per-terrain recall on held-out BEV items. Needs ``data/`` (`python -m navlab data build` or `dvc repro
 data`); ~10 min per group on one thread of the 2-core machine.
 
-    .venv/bin/python benchmarks/pacer_recognition_reference.py [--terrains seen unseen] [--epochs 16]
+    .venv/bin/python benchmarks/pacer_recognition_reference.py [--terrains seen unseen] [--epochs 16] [--width 32]
 """
 
 from __future__ import annotations
@@ -72,6 +72,7 @@ def main() -> None:
     parser.add_argument("--examples", type=int, default=SegmenterSettings.examples_per_epoch,
                         help="fresh BEV items per epoch")
     parser.add_argument("--street-windows", type=float, default=SegmenterSettings.street_windows)
+    parser.add_argument("--width", type=int, default=SegmenterSettings.width, help="the segmenter's channels")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--data-dir", type=Path, default=ROOT / "data")
     parser.add_argument("--reports-dir", type=Path, default=ROOT / "reports")
@@ -82,7 +83,7 @@ def main() -> None:
     P = params.pacer
     bank = load_terrain_bank(args.data_dir, P.data)
     settings = SegmenterSettings(epochs=args.epochs, examples_per_epoch=args.examples,
-                                 street_windows=args.street_windows)
+                                 street_windows=args.street_windows, width=args.width)
     print(f"profile {args.profile}; {settings}")
     found = []
     for terrains in args.terrains:

@@ -6,7 +6,7 @@ fraction (``pacer.data.layout.street_windows``), then plans on the aerial maps o
 realistic and inverted preference and prints each model's low-tier share and the share of the gap from
 the uniform costmap (chance) to the in-view window oracle it closes (issue 24's yardstick), beside the
 committed model. Usage:
-python benchmarks/pacer_target_layouts.py --epochs 8 --street 0.5 --targets in_view context [--out DIR]
+python benchmarks/pacer_target_layouts.py [--profile default] --epochs 8 --street 0.5 --targets in_view context [--out DIR]
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from torch.utils.data import Subset
 
 from navlab.core.params import load_params
 from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.artifacts import selection_windows
 from navlab.pacer.datasets import pacer_dataset
 from navlab.pacer.experiments import (
     context_limited_oracle_method,
@@ -28,7 +29,7 @@ from navlab.pacer.experiments import (
     window_oracle_method,
 )
 from navlab.pacer.terrain import load_terrain_bank
-from navlab.pacer.train import PHASE_DATASETS, PhaseRun, load_model, train_phase
+from navlab.pacer.train import PHASE_DATASETS, PhaseRun, Selection, load_model, train_phase
 
 
 def with_data(params, target: str, street: float):
@@ -40,6 +41,7 @@ def with_data(params, target: str, street: float):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--profile", default="default")
     parser.add_argument("--epochs", type=int, default=8)
     parser.add_argument("--street", type=float, default=0.0)
     parser.add_argument("--targets", nargs="*", default=["in_view", "context"])
@@ -47,7 +49,7 @@ def main() -> None:
     parser.add_argument("--artifacts", default="artifacts")
     parser.add_argument("--out", default="/tmp/pacer_target_layouts")
     args = parser.parse_args()
-    base = load_params("default")
+    base = load_params(args.profile)
     bank = load_terrain_bank(args.data, base.pacer.data)
     committed = f"{args.artifacts}/pacer/phase3/model.pt"
     models = {"committed": load_model(committed)}
@@ -59,7 +61,8 @@ def main() -> None:
             [pacer_dataset(params, args.data, n, "train", bank) for n in names],
             [Subset(pacer_dataset(params, args.data, n, "val", bank), range(P.train.val_examples)) for n in names],
             f"{args.out}/{target}_{args.epochs}_{args.street}",
-            PhaseRun("phase3", args.epochs, P.seed + 1, P.data.n_pairs, committed), progress=False)
+            PhaseRun("phase3", args.epochs, P.seed + 1, P.data.n_pairs, committed), progress=False,
+            selection=Selection(selection_windows(params, args.data, bank), P.evaluation.cost_scale))
         print(f"fine-tuned with {target} targets, street windows {args.street}: {time.perf_counter() - start:.0f} s")
         models[f"{target} targets"] = load_model(path)
     methods = {name: (pacer_method(m, base.pacer.data), True) for name, m in models.items()}

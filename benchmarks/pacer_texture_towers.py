@@ -71,11 +71,11 @@ def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
 
 
-def train_tower(tower: TextureMatcher, params, bank, steps: int, seed: int) -> list[float]:
+def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int, seed: int) -> list[float]:
     data = params.pacer.data
     data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.5))
     items = pacer_dataset(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data)),
-                          ROOT / "data", "synthetic", "train", bank=bank)
+                          data_dir, "synthetic", "train", bank=bank)
     optimiser = torch.optim.Adam(tower.parameters(), lr=2e-3)
     schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, steps)
     losses, step, epoch = [], 0, 0
@@ -138,26 +138,29 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--profile", default="default")
+    parser.add_argument("--data-dir", type=Path, default=ROOT / "data")
+    parser.add_argument("--artifacts-dir", type=Path, default=ROOT / "artifacts")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None, help="also write the results as JSON here")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
-    params = load_params("default")
+    params = load_params(args.profile)
     P = params.pacer
-    bank = load_terrain_bank(ROOT / "data", P.data)
-    maps = {group: aerial_maps(params, ROOT / "data", group, bank) for group in ("seen", "unseen")}
+    bank = load_terrain_bank(args.data_dir, P.data)
+    maps = {group: aerial_maps(params, args.data_dir, group, bank) for group in ("seen", "unseen")}
     found = []
     for name in args.towers:
         started = time.time()
         torch.manual_seed(args.seed)
         if name == "committed":
-            tower = load_model(ROOT / "artifacts" / "pacer" / "phase3" / "model.pt", "cpu").matcher
+            tower = load_model(args.artifacts_dir / "pacer" / "phase3" / "model.pt", "cpu").matcher
             losses = []
         else:
             channels = tuple(args.channels)
             tower = TextureMatcher(channels, dilated=True) if name == "dilated" else TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
-            losses = train_tower(tower, params, bank, args.steps, args.seed)
+            losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed)
         tower.eval()
         trained = time.time() - started
         for group, group_maps in maps.items():

@@ -67,13 +67,15 @@ def main() -> None:
     parser.add_argument("--temperature", type=float)
     parser.add_argument("--gamma", type=float)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--profile", default="default")
+    parser.add_argument("--artifacts", type=Path, default=Path(repo_root(), "artifacts"))
     args = parser.parse_args()
     torch.set_num_threads(1)
-    params = load_params("default").surenav
+    params = load_params(args.profile).surenav
     overrides = {k: v for k, v in (("lr", args.lr), ("temperature", args.temperature), ("gamma", args.gamma))
                  if v is not None}
     train = dataclasses.replace(params.train, **overrides)
-    artifacts, start = Path(repo_root(), "artifacts"), time.perf_counter()
+    artifacts, start = args.artifacts, time.perf_counter()
     samples = {split: context_samples(artifacts, split, params.graph, params.model, "context") for split in ("train", "val")}
     print(f"{len(samples['train'])} train / {len(samples['val'])} val demonstrations; overrides {overrides}", flush=True)
     if args.variant == "rule":
