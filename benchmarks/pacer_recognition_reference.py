@@ -18,9 +18,9 @@ the chance-to-oracle gap the reference closes (``claims.gap_closed``, 95% interv
 gap to the ground-truth row (true labels under the reference's own map-level cost rule: what recognition
 alone costs it), PACER's gap from the committed table, and the segmenter's pixel accuracy and
 per-terrain recall on held-out BEV items. Needs ``data/`` (`python -m navlab data build` or `dvc repro
-data`); ~10 min per group on one thread of the 2-core machine.
+data`); ~40 min per group (128 epochs) on one thread of the 2-core machine.
 
-    .venv/bin/python benchmarks/pacer_recognition_reference.py [--terrains seen unseen] [--epochs 16] [--width 32]
+    .venv/bin/python benchmarks/pacer_recognition_reference.py [--terrains seen unseen] [--epochs 128] [--width 32]
 """
 
 from __future__ import annotations
