@@ -12,7 +12,7 @@ the task's room are printed (<= 0: admissible).
 Table I also prints the costs of the paper-style continuous lattice (``hj.planning.Planner``,
 A* + OBS, as notebooks/hj/01_heuristics.ipynb) beside.
 
-Usage: python benchmarks/hj_state_lattice.py [--profile default] [--artifacts artifacts] [--pairs N] [--tables 1 2 3 4 5]
+Usage: python benchmarks/hj_state_lattice.py [--profile PROFILE] [--artifacts artifacts] [--pairs N] [--tables 1 2 3 4 5]
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def print_rows(title: str, runs: dict[str, list], continuous=None) -> bool:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--profile", default="default")
+    parser.add_argument("--profile", default=None, help="params.yaml's own profile unless given")
     parser.add_argument("--artifacts", default="artifacts")
     parser.add_argument("--pairs", type=int, default=None, help="Table V pairs (default: the profile's)")
     parser.add_argument("--tables", type=int, nargs="*", default=[1, 2, 3, 4, 5])
