@@ -9,9 +9,11 @@ import numpy as np
 import pytest
 import torch
 
+from navlab.core.grid import RasterFrame
 from navlab.core.params import ParamsError
 from navlab.core.seeding import rng
 from navlab.maps.dataset import load_maps
+from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.cost_tiers import cost_tier_proportions
 from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.aerial import aerial_map, aerial_maps, semantic_map_regions
@@ -327,12 +329,27 @@ def test_surenav_aerial_maps_give_each_semantic_label_one_terrain(bank, smoke_pa
     semantic_maps = load_maps(smoke_data, "test")
     size = params.pacer.data.aerial.size
     for index in range(3):
-        window = semantic_map_regions(semantic_maps, size, rng(params.pacer.seed, "pacer-aerial", "seen", index))
+        window = semantic_map_regions(semantic_maps, size, rng(params.pacer.seed, "pacer-aerial", "seen", index),
+                                      params.pacer.data.layout.street_zoom)
         m = aerial_map(bank, params.pacer.data, "seen", index, params.pacer.seed, semantic_maps)
         for region in np.unique(window):  # a region (one semantic label) is painted with exactly one terrain
             assert len(np.unique(m.labels[window == region])) == 1
     with pytest.raises(ValueError, match="needs the SuReNav maps"):
         aerial_map(bank, params.pacer.data, "seen", 0, params.pacer.seed)
+
+
+@pytest.mark.parametrize("zoom", [1, 2, 3])
+def test_street_zoom_draws_each_map_pixel_as_a_zoom_block(zoom):
+    """At zoom z a window shows ceil(size / z) map pixels, each as a z x z block: on a map whose labels count
+    up row by row, the blocks' corners number the map's pixels in order."""
+    counting = SemanticMap("counting", np.arange(9, dtype=np.uint8).reshape(3, 3), RasterFrame((3, 3), 1.0))
+    size = 3 * zoom - (zoom > 1)  # the whole map; above zoom 1 its last blocks cropped by one pixel
+    regions = semantic_map_regions([counting], size, np.random.default_rng(zoom), zoom)
+    cut = 3
+    assert regions.shape == (size, size)
+    blocks = np.repeat(np.repeat(regions[::zoom, ::zoom], zoom, 0), zoom, 1)[:size, :size]
+    np.testing.assert_array_equal(regions, blocks)
+    np.testing.assert_array_equal(regions[::zoom, ::zoom], np.arange(cut * cut).reshape(cut, cut))
 
 
 def _with_data(params, **changes):
@@ -351,7 +368,7 @@ def test_street_windows_come_from_surenav_training_geography_one_terrain_per_lab
         keys = ("pacer", "real", "train", index)
         gen = rng(params.pacer.seed, *keys)
         gen.uniform()  # the street-window draw
-        window = semantic_map_regions(dataset.street_maps, data.image_size, gen)
+        window = semantic_map_regions(dataset.street_maps, data.image_size, gen, data.layout.street_zoom)
         item = dataset.item(index)
         fov = item["fov_mask"]
         assert 1 <= len(np.unique(item["labels"][fov])) <= data.layout.regions[1] + 1

@@ -20,6 +20,7 @@ from navlab.pacer.evaluate import costmap_over_map
 from navlab.pipeline.profile_check import check_profile, hj_problems
 
 GPU_AERIAL = "gpu: 448, paper: 512}"  # pacer.data.aerial.size's gpu and paper values in params.yaml
+ZOOM = ("street_zoom: 2\n", "street_zoom: 1\n")  # pacer.data.layout.street_zoom back to the old map scale
 
 
 def _edited(tmp_path, *swaps: tuple[str, str]):
@@ -46,23 +47,28 @@ def test_profile_dry_run(profile):
 def test_old_gpu_aerial_size_fails_at_load(tmp_path):
     """The bug this exists for: 512-px aerial maps cut from 500-px SuReNav test maps stopped the gpu
     profile at the tables after ~2 h of training; now load_params itself refuses it, naming key and fix."""
-    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"))
-    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 512 exceeds the 500-px SuReNav test maps "
-                                          r"it is cut from \(data\.maps\.tile_size_m / resolution_m = 500 / 1\);.*"
-                                          r"use <= 500$"):
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"), ZOOM)
+    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 512 at pacer\.data\.layout\.street_zoom = 1 "
+                                          r"covers 512 px, more than the 500-px SuReNav test maps it is cut from "
+                                          r"\(data\.maps\.tile_size_m / resolution_m = 500 / 1\);.*"
+                                          r"use a size <= 500$"):
         load_params("gpu", path)
     assert load_params("default", path).pacer.data.aerial.size == 256  # the other profiles are untouched
 
 
 def test_aerial_rule_is_the_runtime_rule(tmp_path):
-    """load_params accepts exactly the sizes semantic_map_regions can cut from a test map (<= its side)."""
+    """load_params accepts exactly the sizes semantic_map_regions can cut from a test map (size / zoom, rounded
+    up, <= its side), at zoom 1 and 2."""
     blank = SemanticMap("test map", np.zeros((500, 500), np.uint8), RasterFrame((500, 500), 1.0))
-    assert load_params("gpu", _edited(tmp_path, (GPU_AERIAL, "gpu: 500, paper: 512}"))).pacer.data.aerial.size == 500
-    assert semantic_map_regions([blank], 500, np.random.default_rng(0)).shape == (500, 500)
-    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 501"):
-        load_params("gpu", _edited(tmp_path, (GPU_AERIAL, "gpu: 501, paper: 512}")))
-    with pytest.raises(ValueError, match="smaller than the aerial size 501"):
-        semantic_map_regions([blank], 501, np.random.default_rng(0))
+    for zoom, fits in ((1, 500), (2, 1000)):
+        zoomed = (ZOOM[0], f"street_zoom: {zoom}\n")
+        accepted = load_params("gpu", _edited(tmp_path, (GPU_AERIAL, f"gpu: {fits}, paper: 512}}"), zoomed))
+        assert accepted.pacer.data.aerial.size == fits
+        assert semantic_map_regions([blank], fits, np.random.default_rng(0), zoom).shape == (fits, fits)
+        with pytest.raises(ParamsError, match=rf"^pacer\.data\.aerial\.size = {fits + 1}"):
+            load_params("gpu", _edited(tmp_path, (GPU_AERIAL, f"gpu: {fits + 1}, paper: 512}}"), zoomed))
+        with pytest.raises(ValueError, match=rf"smaller than the aerial size {fits + 1} at zoom {zoom}"):
+            semantic_map_regions([blank], fits + 1, np.random.default_rng(0), zoom)
 
 
 def test_bev_window_rule_is_the_runtime_rule(tmp_path):
@@ -89,12 +95,12 @@ def test_dry_run_names_each_misfit():
 
 def test_misfits_are_one_line_per_key(tmp_path, capsys):
     """The gpu profile's old 512-px aerial maps (500-px test maps) and a default TTR grid over the CPU budget."""
-    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"),
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"), ZOOM,
                    ("default: [81, 81, 11, 36], paper: [481", "default: [801, 801, 11, 36], paper: [481"))
     assert main(["params", "check", "--params", str(path)]) == 2
     errors = capsys.readouterr().err.splitlines()
     assert len(errors) == 2, errors  # gpu stops at load; its TTR grid (default's) fits its 96 GiB anyway
-    assert sum("[gpu] pacer.data.aerial.size = 512 exceeds the 500-px" in e for e in errors) == 1
+    assert sum("[gpu] pacer.data.aerial.size = 512 at pacer.data.layout.street_zoom = 1 covers 512 px" in e for e in errors) == 1
     assert sum("[default] hj.grids.ttr.shape = [801, 801, 11, 36]" in e for e in errors) == 1
 
 

@@ -5,8 +5,8 @@ Ours are large rendered maps over 3-5 terrains of one group, textured at the BEV
 (a window of ``image_size`` pixels is one BEV image's footprint), with a start and a goal near opposite
 edges. The label layout is either procedural (many warped Voronoi regions and a few trails from edge to
 edge) or, with ``aerial.layout: surenav``, a window of a SuReNav test map (real OpenStreetMap tiles and
-their procedural kin): each semantic label becomes one terrain, so sidewalks are the trails and the
-region shapes are a city's. The hidden total ordering for scoring is the realistic one (or its
+their procedural kin) drawn at ``layout.street_zoom`` pixels per metre: each semantic label becomes one
+terrain, so sidewalks are the trails and the region shapes are a city's. The hidden total ordering for scoring is the realistic one (or its
 inversion) over ``terrains``.
 """
 
@@ -40,15 +40,24 @@ class AerialMap:
     goal: tuple[int, int]
 
 
-def semantic_map_regions(semantic_maps: Sequence[SemanticMap], size: int, rng: np.random.Generator) -> np.ndarray:
-    """Region ids of a ``size`` × ``size`` window of one of ``semantic_maps``: one region per label present."""
+def semantic_map_regions(semantic_maps: Sequence[SemanticMap], size: int, rng: np.random.Generator,
+                         zoom: int = 1) -> np.ndarray:
+    """Region ids of a ``size`` × ``size`` window of one of ``semantic_maps``: one region per label present.
+
+    At ``zoom`` z the window covers ``ceil(size / z)`` map pixels (metres), each drawn as z × z pixels
+    (nearest neighbour), so a 2 m sidewalk is 2 z pixels of texture (``pacer.data.layout.street_zoom``).
+    """
     semantic = semantic_maps[int(rng.integers(len(semantic_maps)))]
     rows, cols = semantic.labels.shape
-    if rows < size or cols < size:
-        raise ValueError(f"{semantic.name}: map {semantic.labels.shape} is smaller than the aerial size {size}; "
-                         "lower pacer.data.aerial.size or raise data.maps.tile_size_m")
-    r0, c0 = (int(rng.integers(n - size + 1)) for n in (rows, cols))
-    _, regions = np.unique(semantic.labels[r0:r0 + size, c0:c0 + size], return_inverse=True)
+    cut = -(-size // zoom)
+    if rows < cut or cols < cut:
+        raise ValueError(f"{semantic.name}: map {semantic.labels.shape} is smaller than the aerial size {size} "
+                         f"at zoom {zoom} ({cut} px); lower pacer.data.aerial.size, raise "
+                         "pacer.data.layout.street_zoom or raise data.maps.tile_size_m")
+    r0, c0 = (int(rng.integers(n - cut + 1)) for n in (rows, cols))
+    _, regions = np.unique(semantic.labels[r0:r0 + cut, c0:c0 + cut], return_inverse=True)
+    regions = regions.reshape(cut, cut).repeat(zoom, axis=0).repeat(zoom, axis=1)[:size, :size]
+    _, regions = np.unique(regions, return_inverse=True)  # a label the crop leaves out keeps no id
     return regions.reshape(size, size)
 
 
@@ -63,7 +72,7 @@ def aerial_map(bank: TerrainBank, params: PacerDataParams, terrains: Literal["se
     if aerial.layout == "surenav":
         if not semantic_maps:
             raise ValueError("aerial.layout 'surenav' needs the SuReNav maps (pass semantic_maps)")
-        regions = semantic_map_regions(semantic_maps, aerial.size, rng)
+        regions = semantic_map_regions(semantic_maps, aerial.size, rng, params.layout.street_zoom)
     else:
         regions = aerial_layout(rng, aerial, params.layout, params.image_size)
     group = bank.ids(terrains)

@@ -134,7 +134,7 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
               street_maps: Sequence[SemanticMap] = ()) -> dict:
     """One item of ``recipe`` (numpy arrays); every random draw comes from ``rng``."""
     if params.layout.street_windows > 0 and rng.uniform() < params.layout.street_windows:
-        regions = semantic_map_regions(street_maps, params.image_size, rng)
+        regions = semantic_map_regions(street_maps, params.image_size, rng, params.layout.street_zoom)
         region_terrains = street_terrains(int(regions.max()) + 1, bank.ids(recipe.terrains),
                                           params.layout.regions[1] + 1, rng)
     else:

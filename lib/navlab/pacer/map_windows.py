@@ -67,7 +67,7 @@ def map_window(bank: TerrainBank, data: PacerDataParams, street_maps: Sequence[S
                rng: np.random.Generator) -> MapWindow:
     """One window, drawn as ``aerial.aerial_map`` draws a map (its terrain count and label painting) at the
     BEV size, rendered by ``render_aerial`` and masked by the field of view, with the map's context."""
-    regions = semantic_map_regions(street_maps, data.image_size, rng)
+    regions = semantic_map_regions(street_maps, data.image_size, rng, data.layout.street_zoom)
     group = bank.ids(terrains)
     count = int(rng.integers(data.aerial.terrains[0], min(data.aerial.terrains[1], len(group)) + 1))
     chosen = rng.choice(group, size=count, replace=False)

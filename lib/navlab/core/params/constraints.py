@@ -1,7 +1,7 @@
 """Keys of different params.yaml sections that must fit together, checked when a profile is loaded.
 
 A single key's type and range is checked by its section's schema; these rules tie keys to each other
-(an aerial map is cut from a SuReNav test map, so it cannot be larger than one). They run inside
+(an aerial map is cut from a SuReNav test map, so it cannot cover more than one). They run inside
 ``load_params`` (``Params.__post_init__``) so that a profile that cannot run stops at its first line
 with the key and the fix, not hours into a stage: the ``gpu`` profile once trained PACER for ~2 h and
 then stopped at the navigation tables, its 512-px aerial maps larger than the 500-px test maps.
@@ -30,11 +30,13 @@ def cross_section_problems(params: Params) -> list[str]:
     """One line per rule ``params`` breaks, naming the key, its value and the fix; [] when all fit."""
     d, p, problems = params.pacer.data, params.pacer, []
     side = surenav_test_map_px(params)
-    if d.aerial.layout == "surenav" and d.aerial.size > side:  # pacer.aerial.semantic_map_regions refuses it
-        problems.append(f"pacer.data.aerial.size = {d.aerial.size} exceeds the {side}-px SuReNav test maps it is "
+    cut = -(-d.aerial.size // d.layout.street_zoom)  # map pixels an aerial map covers
+    if d.aerial.layout == "surenav" and cut > side:  # pacer.aerial.semantic_map_regions refuses it
+        problems.append(f"pacer.data.aerial.size = {d.aerial.size} at pacer.data.layout.street_zoom = "
+                        f"{d.layout.street_zoom} covers {cut} px, more than the {side}-px SuReNav test maps it is "
                         f"cut from (data.maps.tile_size_m / resolution_m = {params.data.maps.tile_size_m:g} / "
                         f"{params.data.maps.resolution_m:g}); the navigation tables would stop with a ValueError "
-                        f"after training; use <= {side}")
+                        f"after training; use a size <= {side * d.layout.street_zoom}")
     if d.image_size >= d.aerial.size:  # pacer.evaluate.costmap_over_map reflect-pads the map by one BEV window
         problems.append(f"pacer.data.image_size = {d.image_size} must be smaller than pacer.data.aerial.size = "
                         f"{d.aerial.size} (the aerial costmap reflect-pads the map by one BEV window)")

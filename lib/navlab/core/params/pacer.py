@@ -18,6 +18,9 @@ class PacerLayoutParams:
     # chance a training item is instead a window of a SuReNav train/val map (street network: thin sidewalks
     # and strips, 2-4 terrains per window), the layouts the evaluation maps are cut from (issue 24)
     street_windows: Annotated[float, between(0.0, 1.0)]
+    # pixels per SuReNav map pixel (metre) of every street layout (aerial maps, map windows, street windows):
+    # at 1 a 2 m sidewalk is 2 px of texture, too thin to recognise (issue 24)
+    street_zoom: Annotated[int, between(1, 8)]
 
 
 @section
