@@ -19,7 +19,7 @@ from navlab.pacer.aerial import semantic_map_regions
 from navlab.pacer.evaluate import costmap_over_map
 from navlab.pipeline.profile_check import check_profile, hj_problems
 
-GPU_AERIAL = "gpu: 448, paper: 512}"  # pacer.data.aerial.size's gpu and paper values in params.yaml
+GPU_AERIAL = "gpu: 896, paper: 1024}"  # pacer.data.aerial.size's gpu and paper values in params.yaml
 ZOOM = ("street_zoom: 2\n", "street_zoom: 1\n")  # pacer.data.layout.street_zoom back to the old map scale
 
 
@@ -53,7 +53,7 @@ def test_old_gpu_aerial_size_fails_at_load(tmp_path):
                                           r"\(data\.maps\.tile_size_m / resolution_m = 500 / 1\);.*"
                                           r"use a size <= 500$"):
         load_params("gpu", path)
-    assert load_params("default", path).pacer.data.aerial.size == 256  # the other profiles are untouched
+    assert load_params("default", path).pacer.data.aerial.size == 512  # the other profiles are untouched
 
 
 def test_aerial_rule_is_the_runtime_rule(tmp_path):

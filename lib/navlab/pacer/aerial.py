@@ -6,8 +6,8 @@ Ours are large rendered maps over 3-5 terrains of one group, textured at the BEV
 edges. The label layout is either procedural (many warped Voronoi regions and a few trails from edge to
 edge) or, with ``aerial.layout: surenav``, a window of a SuReNav test map (real OpenStreetMap tiles and
 their procedural kin) drawn at ``layout.street_zoom`` pixels per metre: each semantic label becomes one
-terrain, so sidewalks are the trails and the region shapes are a city's. The hidden total ordering for scoring is the realistic one (or its
-inversion) over ``terrains``.
+terrain, so sidewalks are the trails and the region shapes are a city's. The hidden total ordering for
+scoring is the realistic one (or its inversion) over ``terrains``.
 """
 
 from __future__ import annotations
