@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -55,19 +56,31 @@ def test_bootstrap_intervals_cover_the_mean_and_shrink_with_the_sample():
         bootstrap_mean_ci(np.array([]), rng(0))
 
 
-def test_window_oracle_reproduces_the_training_target_on_a_window(bank, smoke_params, smoke_data):
+def _with_target(params, target):
+    data = dataclasses.replace(params.pacer.data, train_target=target)
+    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data))
+
+
+@pytest.mark.parametrize("target", ["in_view", "context"])
+def test_window_oracle_reproduces_the_training_target_on_a_window(bank, smoke_params, smoke_data, target):
     data = smoke_params.pacer.data
     mask = fov_mask(data.image_size, data.camera.near_width)
-    ds = evaluation_dataset(smoke_params, smoke_data, "seen", "inverted", bank=bank, context="superset")
+    ds = evaluation_dataset(_with_target(smoke_params, target), smoke_data, "seen", "inverted", bank=bank,
+                            context="superset")
     for i in range(6):
         item = ds.item(i)
-        in_view = item["ordering"][item["ordering"] != IGNORE]
-        # the map's hidden ordering names more terrains than the window shows; the window's target ranks
-        # only those in view, in the same order
-        others = np.setdiff1d(bank.ids("seen"), in_view)[:2]
-        map_ordering = order_terrains(np.concatenate([in_view, others]), "inverted", bank, rng(i))
-        labels = np.where(item["fov_mask"], item["labels"], int(others[0]))  # other terrain outside the view
-        oracle = oracle_window_costs(labels, mask, map_ordering)
+        ranked = item["ordering"][item["ordering"] != IGNORE]
+        shown = np.unique(item["labels"][item["fov_mask"]])
+        if target == "in_view":
+            # the map's hidden ordering names more terrains than the window shows; the window's target ranks
+            # only those in view, in the same order
+            others = np.setdiff1d(bank.ids("seen"), ranked)[:2]
+            map_ordering = order_terrains(np.concatenate([ranked, others]), "inverted", bank, rng(i))
+        else:  # the target ranks every terrain the context was drawn over, shown or not
+            others, map_ordering = np.setdiff1d(ranked, shown)[:1], ranked
+        outside = int(others[0]) if len(others) else int(shown[0])
+        labels = np.where(item["fov_mask"], item["labels"], outside)  # another terrain outside the view
+        oracle = oracle_window_costs(labels, mask, map_ordering, target)
         np.testing.assert_array_equal(oracle, item["costmap"])
 
 
@@ -107,8 +120,9 @@ def test_uniform_row_is_the_plain_shortest_path(bank, smoke_params, smoke_data):
 
 
 def test_evaluation_contexts_are_drawn_both_ways_on_the_same_images(bank, smoke_params, smoke_data):
-    view = evaluation_dataset(smoke_params, smoke_data, "unseen", "realistic", bank=bank, context="in_view")
-    superset = evaluation_dataset(smoke_params, smoke_data, "unseen", "realistic", bank=bank, context="superset")
+    params = _with_target(smoke_params, "in_view")  # the same targets whichever context is drawn
+    view = evaluation_dataset(params, smoke_data, "unseen", "realistic", bank=bank, context="in_view")
+    superset = evaluation_dataset(params, smoke_data, "unseen", "realistic", bank=bank, context="superset")
     grew = 0
     for i in range(8):
         a, b = view.item(i), superset.item(i)

@@ -53,6 +53,10 @@ def test_old_gpu_aerial_size_fails_at_load(tmp_path):
                                           r"\(data\.maps\.tile_size_m / resolution_m = 500 / 1\);.*"
                                           r"use a size <= 500$"):
         load_params("gpu", path)
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 1002, paper: 1024}"))  # at zoom 2: 501 m
+    with pytest.raises(ParamsError, match=r"^pacer\.data\.aerial\.size = 1002 at pacer\.data\.layout\.street_zoom = 2 "
+                                          r"covers 501 px"):
+        load_params("gpu", path)
     assert load_params("default", path).pacer.data.aerial.size == 512  # the other profiles are untouched
 
 
@@ -95,12 +99,12 @@ def test_dry_run_names_each_misfit():
 
 def test_misfits_are_one_line_per_key(tmp_path, capsys):
     """The gpu profile's old 512-px aerial maps (500-px test maps) and a default TTR grid over the CPU budget."""
-    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 512, paper: 512}"), ZOOM,
+    path = _edited(tmp_path, (GPU_AERIAL, "gpu: 1002, paper: 1024}"),
                    ("default: [81, 81, 11, 36], paper: [481", "default: [801, 801, 11, 36], paper: [481"))
     assert main(["params", "check", "--params", str(path)]) == 2
     errors = capsys.readouterr().err.splitlines()
     assert len(errors) == 2, errors  # gpu stops at load; its TTR grid (default's) fits its 96 GiB anyway
-    assert sum("[gpu] pacer.data.aerial.size = 512 at pacer.data.layout.street_zoom = 1 covers 512 px" in e for e in errors) == 1
+    assert sum("[gpu] pacer.data.aerial.size = 1002 at pacer.data.layout.street_zoom = 2 covers 501" in e for e in errors) == 1
     assert sum("[default] hj.grids.ttr.shape = [801, 801, 11, 36]" in e for e in errors) == 1
 
 
