@@ -52,8 +52,9 @@ def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
     from navlab.pacer.terrain import _check_ranges, _check_split
 
     d = params.pacer.data
-    notes.append(f"pacer aerial {d.aerial.size} px ({d.aerial.layout}, zoom {d.layout.street_zoom}), test maps {surenav_test_map_px(params)} px, "
-                 f"BEV {d.image_size} px, patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
+    notes.append(f"pacer aerial {d.aerial.size} px ({d.aerial.layout}, zoom {d.layout.street_zoom}), "
+                 f"test maps {surenav_test_map_px(params)} px, BEV {d.image_size} px, "
+                 f"patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
     try:
         _check_split(d)
         _check_ranges(d)
