@@ -22,6 +22,7 @@ from navlab.pacer.context import preference_context, preference_pairs, stack_con
 from navlab.pacer.datasets import PacerDataset, Recipe, evaluation_dataset, max_terrains, pacer_dataset
 from navlab.pacer.preferences import IGNORE, environment_tiers, order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import load_terrain_bank
+from pacer_support import with_pacer_data
 
 
 @pytest.fixture(scope="module")
@@ -256,12 +257,12 @@ def test_items_and_maps_are_deterministic_per_seed_and_index(bank, smoke_params,
 
 def _in_view(params):
     """``params`` with targets over the terrains in view only, for the tests of what a window shows."""
-    return _with_data(params, train_target="in_view")
+    return with_pacer_data(params, train_target="in_view")
 
 
 @pytest.mark.parametrize("target", ["in_view", "context"])
 def test_realistic_orderings_sort_by_rank_and_costs_follow(bank, smoke_params, target):
-    dataset = pacer_dataset(_with_data(smoke_params, train_target=target), None, "real", bank=bank)
+    dataset = pacer_dataset(with_pacer_data(smoke_params, train_target=target), None, "real", bank=bank)
     for item in _items(dataset, 10):
         ordering = item["ordering"][item["ordering"] >= 0]
         shown = set(np.unique(item["labels"][item["fov_mask"]]).tolist())
@@ -327,9 +328,7 @@ def test_aerial_maps_cover_one_group_with_endpoints_on_opposite_edges(bank, smok
 
 
 def _with_aerial_layout(params, layout):
-    data = params.pacer.data
-    aerial = dataclasses.replace(data.aerial, layout=layout)
-    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=dataclasses.replace(data, aerial=aerial)))
+    return with_pacer_data(params, aerial=dataclasses.replace(params.pacer.data.aerial, layout=layout))
 
 
 def test_surenav_aerial_maps_give_each_semantic_label_one_terrain(bank, smoke_params, smoke_data):
@@ -360,14 +359,9 @@ def test_street_zoom_draws_each_map_pixel_as_a_zoom_block(zoom):
     np.testing.assert_array_equal(regions[::zoom, ::zoom], np.arange(cut * cut).reshape(cut, cut))
 
 
-def _with_data(params, **changes):
-    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=dataclasses.replace(
-        params.pacer.data, **changes)))
-
-
 def test_street_windows_come_from_surenav_training_geography_one_terrain_per_label(bank, smoke_params, smoke_data):
     data = smoke_params.pacer.data
-    params = _with_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=1.0))
+    params = with_pacer_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=1.0))
     for split, maps in (("train", "train"), ("val", "val"), ("test", "val")):  # never the evaluation tiles
         dataset = pacer_dataset(params, smoke_data, "real", split, bank)
         assert [m.name for m in dataset.street_maps] == [m.name for m in load_maps(smoke_data, maps)]
@@ -401,7 +395,7 @@ def test_heldout_bev_sets_stay_procedural_whatever_share_of_training_items_are_s
     from navlab.pacer.experiments import heldout_bev_params
 
     data = smoke_params.pacer.data
-    streets = _with_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=0.5))
+    streets = with_pacer_data(smoke_params, layout=dataclasses.replace(data.layout, street_windows=0.5))
     with pytest.raises(ValueError, match="needs the SuReNav maps"):
         evaluation_dataset(streets, None, "seen", "realistic", bank=bank)
     heldout = heldout_bev_params(streets)
@@ -413,7 +407,7 @@ def test_heldout_bev_sets_stay_procedural_whatever_share_of_training_items_are_s
 
 def test_context_targets_rank_every_terrain_the_context_was_drawn_over(bank, smoke_params):
     """A terrain's target cost is its rank in the whole superset ordering, not among its window neighbours."""
-    params = _with_data(smoke_params, train_target="context", train_context="superset")
+    params = with_pacer_data(smoke_params, train_target="context", train_context="superset")
     dataset = pacer_dataset(params, None, "shuffled", bank=bank)
     wider = 0
     for item in _items(dataset, 12):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 
 import numpy as np
@@ -33,6 +32,7 @@ from navlab.pacer.preferences import (
 )
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.search.grid_astar import plan
+from pacer_support import with_pacer_data
 
 
 @pytest.fixture(scope="module")
@@ -56,17 +56,12 @@ def test_bootstrap_intervals_cover_the_mean_and_shrink_with_the_sample():
         bootstrap_mean_ci(np.array([]), rng(0))
 
 
-def _with_target(params, target):
-    data = dataclasses.replace(params.pacer.data, train_target=target)
-    return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data))
-
-
 @pytest.mark.parametrize("target", ["in_view", "context"])
 def test_window_oracle_reproduces_the_training_target_on_a_window(bank, smoke_params, smoke_data, target):
     data = smoke_params.pacer.data
     mask = fov_mask(data.image_size, data.camera.near_width)
-    ds = evaluation_dataset(_with_target(smoke_params, target), smoke_data, "seen", "inverted", bank=bank,
-                            context="superset")
+    params = with_pacer_data(smoke_params, train_target=target)
+    ds = evaluation_dataset(params, smoke_data, "seen", "inverted", bank=bank, context="superset")
     for i in range(6):
         item = ds.item(i)
         ranked = item["ordering"][item["ordering"] != IGNORE]
@@ -120,7 +115,7 @@ def test_uniform_row_is_the_plain_shortest_path(bank, smoke_params, smoke_data):
 
 
 def test_evaluation_contexts_are_drawn_both_ways_on_the_same_images(bank, smoke_params, smoke_data):
-    params = _with_target(smoke_params, "in_view")  # the same targets whichever context is drawn
+    params = with_pacer_data(smoke_params, train_target="in_view")  # the same targets whichever context is drawn
     view = evaluation_dataset(params, smoke_data, "unseen", "realistic", bank=bank, context="in_view")
     superset = evaluation_dataset(params, smoke_data, "unseen", "realistic", bank=bank, context="superset")
     grew = 0

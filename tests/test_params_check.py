@@ -98,7 +98,7 @@ def test_dry_run_names_each_misfit():
 
 
 def test_misfits_are_one_line_per_key(tmp_path, capsys):
-    """The gpu profile's old 512-px aerial maps (500-px test maps) and a default TTR grid over the CPU budget."""
+    """gpu aerial maps covering 501 m of the 500-px test maps and a default TTR grid over the CPU budget."""
     path = _edited(tmp_path, (GPU_AERIAL, "gpu: 1002, paper: 1024}"),
                    ("default: [81, 81, 11, 36], paper: [481", "default: [801, 801, 11, 36], paper: [481"))
     assert main(["params", "check", "--params", str(path)]) == 2
