@@ -54,7 +54,7 @@ from navlab.pacer.experiments import (
 )
 from navlab.pacer.loss import matching_loss
 from navlab.pacer.model import TextureMatcher
-from navlab.pacer.preferences import mean_consistent_ranks
+from navlab.pacer.preferences import context_limited_costs
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import load_model
 
@@ -110,9 +110,9 @@ def read_out(tower: TextureMatcher):
     """A ``pacer.experiments.Method``: each pixel costs its nearest patch's terrain's mean consistent rank."""
     def cost(amap, _ordering, context, pairs):
         terrains = np.unique(pairs)
-        ranks = mean_consistent_ranks(terrains, pairs) / max(len(terrains) - 1, 1)
+        costs = context_limited_costs(terrains, pairs)
         found = nearest_terrain(tower, amap, context, pairs)
-        return ranks[np.searchsorted(terrains, found)].astype(np.float32)
+        return costs[np.searchsorted(terrains, found)].astype(np.float32)
     return cost
 
 

@@ -180,8 +180,9 @@ def _encoded_data_dir(tmp_path, params):
 
 def test_context_patches_never_come_from_the_pixels_images_are_drawn_from(tmp_path, smoke_params):
     data = smoke_params.pacer.data
-    flat = dataclasses.replace(data, photometric=dataclasses.replace(
-        data.photometric, brightness=0.0, gradient=0.0, shadows=0, noise_std=0.0))
+    flat = dataclasses.replace(data, photometric=dataclasses.replace(  # colours encode photograph columns here
+        data.photometric, brightness=0.0, gradient=0.0, shadows=0, noise_std=0.0),
+        recolour=dataclasses.replace(data.recolour, probability=0.0))
     bank = load_terrain_bank(_encoded_data_dir(tmp_path, smoke_params), flat)
     cut = 64 - round(64 * data.context_fraction)  # first context column
     for name in ("real", "synthetic"):

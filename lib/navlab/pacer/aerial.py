@@ -56,9 +56,8 @@ def semantic_map_regions(semantic_maps: Sequence[SemanticMap], size: int, rng: n
                          "pacer.data.layout.street_zoom or raise data.maps.tile_size_m")
     r0, c0 = (int(rng.integers(n - cut + 1)) for n in (rows, cols))
     _, regions = np.unique(semantic.labels[r0:r0 + cut, c0:c0 + cut], return_inverse=True)
-    regions = regions.reshape(cut, cut).repeat(zoom, axis=0).repeat(zoom, axis=1)[:size, :size]
-    _, regions = np.unique(regions, return_inverse=True)  # a label the crop leaves out keeps no id
-    return regions.reshape(size, size)
+    # the crop drops fewer than z rows and columns, so every block (and every label's id) keeps a pixel
+    return regions.reshape(cut, cut).repeat(zoom, axis=0).repeat(zoom, axis=1)[:size, :size]
 
 
 def aerial_map(bank: TerrainBank, params: PacerDataParams, terrains: Literal["seen", "unseen"], index: int,

@@ -34,7 +34,8 @@ H(τ_l) = (l-1)/(L-1) ranks the whole total ordering, Sec. V-A).
 * ``real``: seen terrains, the realistic ordering (phase 1);
 * ``shuffled``: seen terrains, a uniformly random permutation per item (phase 2);
 * ``synthetic``: a seen layout in which each terrain is replaced by a Sweet Home 3D texture with chance
-  ``synthetic_replace`` (at least one is), random ordering (phase 3);
+  ``synthetic_replace`` (at least one is), then each terrain recoloured with chance ``recolour.probability``
+  alike in image and context (``pacer.recolour``), random ordering (phase 3);
 * evaluation (:func:`evaluation_dataset`): seen or unseen terrains x realistic or inverted ordering, with
   an informative context (in-view or superset) or an uninformative one (terrains of the other group only).
 """
@@ -61,6 +62,7 @@ from navlab.pacer.bev import fov_mask, render_bev
 from navlab.pacer.context import preference_context, superset_terrains, uninformative_context
 from navlab.pacer.layouts import bev_layout
 from navlab.pacer.preferences import IGNORE, Preference, order_terrains, pad_ordering, target_costmap
+from navlab.pacer.recolour import recolour_terrains
 from navlab.pacer.terrain import TerrainBank, load_terrain_bank
 
 Split = Literal["train", "val", "test"]
@@ -158,6 +160,8 @@ def make_item(bank: TerrainBank, params: PacerDataParams, recipe: Recipe, rng: n
         context, pairs = preference_context(bank, ordering, rng, params)
     else:
         context, pairs = uninformative_context(bank, recipe.terrains, recipe.preference, rng, params)
+    if recipe.synthetic:
+        image, context = recolour_terrains(image, labels, context, pairs, rng, params.recolour)
     return {
         "image": np.ascontiguousarray(image.transpose(2, 0, 1)),
         "context": context,

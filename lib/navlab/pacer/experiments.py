@@ -42,8 +42,8 @@ from navlab.pacer.evaluate import (
 )
 from navlab.pacer.map_windows import METRICS, MapWindow, window_scores
 from navlab.pacer.preferences import (
+    context_limited_costs,
     environment_tiers,
-    mean_consistent_ranks,
     order_terrains,
     rank_costs,
     target_costmap,
@@ -144,11 +144,10 @@ def classifier_method(classifier: SemanticClassifier, bank: TerrainBank, prefere
 def context_limited_oracle_method() -> Method:
     """Reference row: what a perfect follower of the context with no prior can reach. Each terrain of the
     map costs its mean rank over every ordering of the map's terrains consistent with the context's
-    pairs (``mean_consistent_ranks``); pairs the context leaves open average out."""
+    pairs (``preferences.context_limited_costs``); pairs the context leaves open average out."""
     def cost(amap, _ordering, _context, pairs):
         terrains = np.asarray(amap.terrains, dtype=np.int64)
-        ranks = mean_consistent_ranks(terrains, pairs)
-        lookup = dict(zip(terrains.tolist(), (ranks / max(len(terrains) - 1, 1)).tolist()))
+        lookup = dict(zip(terrains.tolist(), context_limited_costs(terrains, pairs).tolist()))
         return np.vectorize(lookup.__getitem__, otypes=[np.float32])(amap.labels)
     return cost
 

@@ -142,6 +142,13 @@ def mean_consistent_ranks(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray
     return ranks / prefix[full]
 
 
+def context_limited_costs(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """float64 (L,) in [0, 1]: each of ``terrains``' cost H(τ_l) = (l-1)/(L-1) (Sec. V-A) averaged over every
+    ordering of them that agrees with ``pairs``: what a perfect follower of the context with no prior assigns
+    (the context-limited oracle's costs); pairs the context leaves open average out."""
+    return mean_consistent_ranks(terrains, pairs) / max(len(terrains) - 1, 1)
+
+
 def implied_pairs(terrains: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """bool (L, L): [i, j] when ``pairs`` ((preferred, other) ids) imply, by transitivity, that
     ``terrains[i]`` is preferred to ``terrains[j]`` (the pairs a context *decides*; the rest it leaves

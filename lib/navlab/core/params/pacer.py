@@ -35,6 +35,16 @@ class PacerPhotometricParams:
 
 
 @section
+class PacerRecolourParams:
+    """D_synthetic's recoloured terrains (navlab.pacer.recolour): new colours for each terrain, alike in image
+    and context, so that texture, not a photograph's colour, ties a context patch to its terrain (issue 24)."""
+
+    probability: Annotated[float, between(0.0, 1.0)]  # chance each terrain of a D_synthetic item is recoloured
+    grey: Annotated[float, between(0.0, 1.0)]  # chance a recoloured terrain turns grey (saturation 0)
+    saturation: Annotated[tuple[float, ...], between(0.0, 4.0, length=2)]  # [low, high] chroma scale otherwise
+
+
+@section
 class PacerCameraParams:
     """The ground-plane homography: BEV -> forward camera -> BEV, losing detail far from the robot."""
 
@@ -79,6 +89,7 @@ class PacerDataParams:
     train_target: Literal["in_view", "context"]  # what a target ranks (see pacer.datasets)
     footprint_texels: Annotated[tuple[float, ...], between(8.0, 4096.0, length=2)]
     synthetic_replace: Annotated[float, between(0.0, 1.0)]
+    recolour: PacerRecolourParams
     layout: PacerLayoutParams
     photometric: PacerPhotometricParams
     camera: PacerCameraParams

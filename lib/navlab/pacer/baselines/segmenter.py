@@ -16,7 +16,7 @@ recognisable at all. Neither is a paper row: ``benchmarks/pacer_recognition_refe
 
 Told only the context's pairs instead (``segmenter_method(..., told="context")``), each terrain of the map
 costs its mean rank over the orderings the pairs allow, as the context-limited oracle's do
-(``preferences.mean_consistent_ranks``): what recognition as good as a dedicated segmenter and a perfect
+(``preferences.context_limited_costs``): what recognition as good as a dedicated segmenter and a perfect
 follower of the context *with no prior* can reach, PACER D_synthetic's own ceiling (its phase 3 trains on
 random orderings, so it has no prior to fall back on).
 """
@@ -42,7 +42,7 @@ from navlab.pacer.aerial import AerialMap
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.datasets import STREET_SPLIT, PacerDataset, Recipe
 from navlab.pacer.evaluate import stitch_windows, window_cutter
-from navlab.pacer.preferences import IGNORE, mean_consistent_ranks, rank_costs
+from navlab.pacer.preferences import IGNORE, context_limited_costs, rank_costs
 from navlab.pacer.terrain import TerrainBank
 
 Terrains = Literal["seen", "unseen"]
@@ -196,7 +196,7 @@ def segmenter_method(model: TerrainSegmenter, params: Params, *, told: Literal["
         terrains, costs = np.asarray(ordering, dtype=np.int64), None
         if told == "context":
             terrains = np.asarray(amap.terrains, dtype=np.int64)
-            costs = mean_consistent_ranks(terrains, pairs) / max(len(terrains) - 1, 1)
+            costs = context_limited_costs(terrains, pairs)
 
         def window_costs(corners):
             return expected_rank_costs(torch.softmax(model(cut(corners)), dim=1), model.labels, terrains, costs)
