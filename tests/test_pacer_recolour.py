@@ -99,3 +99,15 @@ def test_probability_zero_draws_nothing_and_keeps_synthetic_items_byte_identical
     recolour_terrains(image, np.zeros((4, 4), int), context, np.array([[0, 1]]), generator,
                       dataclasses.replace(ALWAYS, probability=0.0))
     assert generator.bit_generator.state == state
+
+
+def test_the_tables_say_when_d_synthetic_is_recoloured(smoke_params):
+    """The protocol note names the recolouring (an addition to the paper's D_synthetic) only where it is on."""
+    from navlab.pacer.experiments import protocol_note
+
+    evaluation = smoke_params.pacer.evaluation
+    on = with_pacer_data(smoke_params, recolour=ALWAYS).pacer.data
+    off = with_pacer_data(smoke_params, recolour=dataclasses.replace(ALWAYS, probability=0.0)).pacer.data
+    assert "recolouring of ours" in protocol_note(on, evaluation, "smoke")
+    assert "with chance 1," in protocol_note(on, evaluation, "smoke")
+    assert "recolour" not in protocol_note(off, evaluation, "smoke")

@@ -272,7 +272,19 @@ def protocol_note(data: PacerDataParams, evaluation, profile: str) -> str:
             f"per metre 1 + {evaluation.cost_scale:g}·c), not re-planned from each robot pose; the window oracle "
             f"(every window costed exactly as its training target, stitched the same way) is this protocol's "
             f"ceiling, the uniform costmap (plain shortest path) its chance level. Operator contexts name every "
-            f"terrain of the map where {data.n_pairs} pairs allow. Models: `{profile}` profile.")
+            f"terrain of the map where {data.n_pairs} pairs allow. Models: `{profile}` profile.{recolour_note(data)}")
+
+
+def recolour_note(data: PacerDataParams) -> str:
+    """D_synthetic's recoloured terrains, a training addition of ours (``pacer.recolour``), said where it is on."""
+    r = data.recolour
+    if r.probability == 0.0:
+        return ""
+    return (f" D_synthetic adds to the paper's texture replacement (each terrain a synthetic texture with chance "
+            f"{data.synthetic_replace:g}) a recolouring of ours: each terrain of an item, with chance {r.probability:g}, "
+            f"goes through one random colour map (hue turned about the grey axis, saturation x U{list(r.saturation)}, or "
+            f"grey with chance {r.grey:g}), the same on its pixels and its context patches, so that texture rather than a "
+            f"photograph's colour ties a patch to its terrain (`navlab.pacer.recolour`).")
 
 
 def context_following_rows(models: Mapping[str, torch.nn.Module], sets: Mapping[tuple[str, str, str], Dataset],
