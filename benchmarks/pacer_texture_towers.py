@@ -8,7 +8,8 @@ pools twice (stride 4, then a 3 x 3 mean): a 1-3 px strip's features are mostly 
 
 This trains texture towers outside PACER with one objective, a per-pixel prototypical matching loss (each
 pixel's softmax over the context's 2n patch keys, -log of the mass on the patches of its own terrain, which
-the training items know), on D_synthetic items of which half are SuReNav training-split street windows, and
+the training items know), on D_synthetic items (recoloured as ``pacer.data.recolour`` says, or ``--recolour``)
+of which half are SuReNav training-split street windows, and
 scores each on the tables' own maps with one read-out that isolates recognition: every pixel takes the
 terrain of its most similar context patch, costed at that terrain's mean rank over the orderings the
 context's pairs allow (the context-limited oracle's rule, so that oracle, with perfect recognition, is this
@@ -24,7 +25,7 @@ preference, the low-tier share with the share of the uniform-to-window-oracle ga
 interval over maps, ``claims.gap_closed``). Needs ``data/`` and ``artifacts/pacer/phase3`` (`dvc repro`);
 ~12 min per trained tower (2,000 steps of 16 items) on one thread.
 
-    .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000]
+    .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000] [--recolour 0]
 """
 
 from __future__ import annotations
@@ -138,6 +139,8 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--recolour", type=float, default=None,
+                        help="chance each D_synthetic terrain is recoloured (pacer.recolour; default: params.yaml's)")
     parser.add_argument("--profile", default="default")
     parser.add_argument("--data-dir", type=Path, default=ROOT / "data")
     parser.add_argument("--artifacts-dir", type=Path, default=ROOT / "artifacts")
@@ -146,6 +149,10 @@ def main() -> None:
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
     params = load_params(args.profile)
+    if args.recolour is not None:
+        data = params.pacer.data
+        data = dataclasses.replace(data, recolour=dataclasses.replace(data.recolour, probability=args.recolour))
+        params = dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data))
     P = params.pacer
     bank = load_terrain_bank(args.data_dir, P.data)
     maps = {group: aerial_maps(params, args.data_dir, group, bank) for group in ("seen", "unseen")}
@@ -183,6 +190,7 @@ def main() -> None:
                               "final_loss": float(np.mean(losses[-250:])) if losses else None})
     if args.out is not None:
         args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "channels": args.channels,
+                                        "recolour": dataclasses.asdict(P.data.recolour),
                                         "results": found}, indent=1))
         print(f"wrote {args.out}")
 
