@@ -23,9 +23,14 @@ read-out's ceiling). Towers:
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
 preference, the low-tier share with the share of the uniform-to-window-oracle gap closed (bootstrap 95%
 interval over maps, ``claims.gap_closed``). Needs ``data/`` and ``artifacts/pacer/phase3`` (`dvc repro`);
-~12 min per trained tower (2,000 steps of 16 items) on one thread.
+~8 min per trained tower (2,000 steps of 16 items) on one thread.
+
+``--hold-out NAME ...`` asks whether a third terrain group could select the matcher's training length without
+touching the unseen group: those synthetic textures leave D_synthetic and become a *validation* group, painted
+on maps like the unseen ones; ``--eval-every N`` prints recognition per group (and per terrain) every N steps.
 
     .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000] [--recolour 0]
+        [--hold-out box_tree roughcast stone_wall grey_tile --eval-every 500]
 """
 
 from __future__ import annotations
@@ -72,7 +77,8 @@ def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
 
 
-def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int, seed: int) -> list[float]:
+def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int, seed: int,
+                on_step=lambda step: None) -> list[float]:
     data = params.pacer.data
     data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.5))
     items = pacer_dataset(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data)),
@@ -95,6 +101,7 @@ def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int,
             step += 1
             if step % 250 == 0:
                 print(f"  step {step}: matching loss {np.mean(losses[-250:]):.3f}", flush=True)
+            on_step(step)
             if step == steps:
                 break
         epoch += 1
@@ -118,8 +125,8 @@ def read_out(tower: TextureMatcher):
 
 
 def recognition(tower: TextureMatcher, maps, bank, data, seed: int) -> dict[str, float]:
-    """Mean over maps of the nearest patch's terrain being right (all named pixels, interior, boundary), and
-    the maps' share of boundary pixels."""
+    """Mean over maps of the nearest patch's terrain being right (all named pixels, interior, boundary), the
+    maps' share of boundary pixels, and per terrain (``terrain:<name>``, over the maps that name it)."""
     rates = {"all": [], "interior": [], "boundary": [], "boundary_cells": []}
     for index, amap in enumerate(maps):
         _, context, pairs = map_context(bank, data, amap, "realistic", True, seed, index)
@@ -129,7 +136,39 @@ def recognition(tower: TextureMatcher, maps, bank, data, seed: int) -> dict[str,
         for key, where in (("all", named), ("interior", named & inner), ("boundary", named & ~inner)):
             rates[key].append(float(right[where].mean()))
         rates["boundary_cells"].append(1.0 - float(inner.mean()))
+        for terrain in np.unique(pairs):
+            if (amap.labels == terrain).any():
+                rates.setdefault(f"terrain:{bank.terrains[terrain].name}", []).append(
+                    float(right[amap.labels == terrain].mean()))
     return {key: float(np.mean(v)) for key, v in rates.items()}
+
+
+def held_out_params(params, names: list[str]):
+    """(training params without the ``names`` synthetic textures, params whose *unseen* group is those
+    textures, so ``aerial_maps(..., "unseen")`` paints validation maps of them)."""
+    data = params.pacer.data
+    unknown = sorted(set(names) - set(data.synthetic))
+    if unknown:
+        raise SystemExit(f"--hold-out {unknown}: not synthetic terrains; choose from {', '.join(data.synthetic)}")
+    rest = {k: v for k, v in data.synthetic.items() if k not in names}
+    validation = dataclasses.replace(data, synthetic=rest, unseen={k: data.synthetic[k] for k in names},
+                                     realistic_ordering=[n for n in data.realistic_ordering if n in data.seen] + names)
+    return tuple(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=d))
+                 for d in (dataclasses.replace(data, synthetic=rest), validation))
+
+
+def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, every: int, log: list):
+    """``train_tower``'s ``on_step``: every ``every`` steps, recognition on each probe group's maps."""
+    def on_step(step: int) -> None:
+        if every <= 0 or step % every:
+            return
+        tower.eval()
+        row = {"tower": name, "step": step, **{group: recognition(tower, maps, bank, data, seed)
+                                for group, (maps, bank, data) in probes.items()}}
+        tower.train()
+        log.append(row)
+        print(f"  step {step}: recognition " + ", ".join(f"{g} {row[g]['all']:.3f}" for g in probes), flush=True)
+    return on_step
 
 
 def main() -> None:
@@ -141,6 +180,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--recolour", type=float, default=None,
                         help="chance each D_synthetic terrain is recoloured (pacer.recolour; default: params.yaml's)")
+    parser.add_argument("--hold-out", nargs="*", default=[],
+                        help="synthetic terrains held out of training as a validation group (see the docstring)")
+    parser.add_argument("--eval-every", type=int, default=0, help="recognition per group every N training steps")
     parser.add_argument("--profile", default="default")
     parser.add_argument("--data-dir", type=Path, default=ROOT / "data")
     parser.add_argument("--artifacts-dir", type=Path, default=ROOT / "artifacts")
@@ -153,10 +195,17 @@ def main() -> None:
         data = params.pacer.data
         data = dataclasses.replace(data, recolour=dataclasses.replace(data.recolour, probability=args.recolour))
         params = dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data))
+    probes = {}
+    if args.hold_out:
+        params, validation = held_out_params(params, args.hold_out)
+        validation_bank = load_terrain_bank(args.data_dir, validation.pacer.data)
+        probes["validation"] = (aerial_maps(validation, args.data_dir, "unseen", validation_bank), validation_bank,
+                                validation.pacer.data)
     P = params.pacer
     bank = load_terrain_bank(args.data_dir, P.data)
     maps = {group: aerial_maps(params, args.data_dir, group, bank) for group in ("seen", "unseen")}
-    found = []
+    probes = {**{group: (group_maps, bank, P.data) for group, group_maps in maps.items()}, **probes}
+    found, along = [], []
     for name in args.towers:
         started = time.time()
         torch.manual_seed(args.seed)
@@ -167,7 +216,8 @@ def main() -> None:
             channels = tuple(args.channels)
             tower = TextureMatcher(channels, dilated=True) if name == "dilated" else TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
-            losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed)
+            losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
+                                 progress_printer(name, tower, probes, P.seed, args.eval_every, along))
         tower.eval()
         trained = time.time() - started
         for group, group_maps in maps.items():
@@ -191,7 +241,7 @@ def main() -> None:
     if args.out is not None:
         args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "channels": args.channels,
                                         "recolour": dataclasses.asdict(P.data.recolour),
-                                        "results": found}, indent=1))
+                                        "hold_out": args.hold_out, "along": along, "results": found}, indent=1))
         print(f"wrote {args.out}")
 
 
