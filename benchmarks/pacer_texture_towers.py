@@ -27,7 +27,7 @@ interval over maps, ``claims.gap_closed``). Needs ``data/`` and ``artifacts/pace
 
 ``--hold-out NAME ...`` asks whether a third terrain group could select the matcher's training length without
 touching the unseen group: those synthetic textures leave D_synthetic and become a *validation* group, painted
-on maps like the unseen ones; ``--eval-every N`` prints recognition per group (and per terrain) every N steps.
+on maps like the unseen ones (and once more in grey, where only texture tells them apart); ``--eval-every N`` prints recognition per group (and per terrain) every N steps.
 
     .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000] [--recolour 0]
         [--hold-out box_tree roughcast stone_wall grey_tile --eval-every 500]
@@ -157,6 +157,15 @@ def held_out_params(params, names: list[str]):
                  for d in (dataclasses.replace(data, synthetic=rest), validation))
 
 
+def grey_bank(bank):
+    """``bank`` with every photograph grey (its channel mean in all three channels): maps and contexts drawn
+    from it differ between terrains by texture and grey level only."""
+    def grey(parts):
+        return tuple(tuple(tuple(np.repeat(level.mean(axis=2, keepdims=True), 3, axis=2) for level in pyramid)
+                           for pyramid in photos) for photos in parts)
+    return dataclasses.replace(bank, image_parts=grey(bank.image_parts), context_parts=grey(bank.context_parts))
+
+
 def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, every: int, log: list):
     """``train_tower``'s ``on_step``: every ``every`` steps, recognition on each probe group's maps."""
     def on_step(step: int) -> None:
@@ -201,6 +210,9 @@ def main() -> None:
         validation_bank = load_terrain_bank(args.data_dir, validation.pacer.data)
         probes["validation"] = (aerial_maps(validation, args.data_dir, "unseen", validation_bank), validation_bank,
                                 validation.pacer.data)
+        greyed = grey_bank(validation_bank)  # the same maps in grey: texture alone must tell the terrains apart
+        probes["grey validation"] = (aerial_maps(validation, args.data_dir, "unseen", greyed), greyed,
+                                     validation.pacer.data)
     P = params.pacer
     bank = load_terrain_bank(args.data_dir, P.data)
     maps = {group: aerial_maps(params, args.data_dir, group, bank) for group in ("seen", "unseen")}
