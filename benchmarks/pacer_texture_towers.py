@@ -27,7 +27,8 @@ interval over maps, ``claims.gap_closed``). Needs ``data/`` and ``artifacts/pace
 
 ``--hold-out NAME ...`` asks whether a third terrain group could select the matcher's training length without
 touching the unseen group: those synthetic textures leave D_synthetic and become a *validation* group, painted
-on maps like the unseen ones (and once more in grey, where only texture tells them apart); ``--eval-every N`` prints recognition per group (and per terrain) every N steps.
+on maps like the unseen ones (and once more in grey, where only texture tells them apart); ``--eval-every N``
+prints recognition per group (and per terrain) every N steps.
 
     .venv/bin/python benchmarks/pacer_texture_towers.py [--towers pooled dilated committed] [--steps 2000] [--recolour 0]
         [--hold-out box_tree roughcast stone_wall grey_tile --eval-every 500]
