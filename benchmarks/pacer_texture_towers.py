@@ -18,6 +18,10 @@ read-out's ceiling). Towers:
 * ``pooled``: the matcher's own architecture (``TextureMatcher``: conv pairs, 2 x 2 mean pool per stage,
   3 x 3 local mean, cosines upsampled);
 * ``dilated``: the same convolutions without pooling, dilations 1, 2, 4 (receptive field 29 px, stride 1);
+* ``luminance``: ``dilated`` fed each image and patch in grey (its channel mean): texture and grey level only, to
+  ask whether a tower blind to colour separates same-coloured terrains better than one that sees it;
+* ``both``: ``dilated`` and ``luminance`` side by side, their features concatenated before centring and
+  normalising (one cosine over both);
 * ``committed``: the committed phase-3 model's matcher as it is (no training here).
 
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
@@ -67,6 +71,24 @@ from navlab.pacer.train import load_model
 
 ROOT = Path(__file__).resolve().parents[1]
 INTERIOR_PX = 9  # a cell is interior when its 9 x 9-pixel neighbourhood shows one terrain
+
+
+class LuminanceMatcher(TextureMatcher):
+    """The dilated tower seeing every input in grey (its channel mean in all three channels)."""
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        return super().embed(x.mean(dim=1, keepdim=True).expand_as(x))
+
+
+class ColourAndLuminanceMatcher(TextureMatcher):
+    """A dilated tower on colour and a second one on grey, features concatenated."""
+
+    def __init__(self, channels: tuple[int, ...], dilated: bool = True):
+        super().__init__(channels, dilated=dilated)
+        self.luminance = LuminanceMatcher(channels, dilated=dilated)
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        return torch.cat([super().embed(x), self.luminance.embed(x)], dim=1)
 
 
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
@@ -184,7 +206,7 @@ def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
-                        choices=["committed", "pooled", "dilated"])
+                        choices=["committed", "pooled", "dilated", "luminance", "both"])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
@@ -227,7 +249,8 @@ def main() -> None:
             losses = []
         else:
             channels = tuple(args.channels)
-            tower = TextureMatcher(channels, dilated=True) if name == "dilated" else TextureMatcher(channels[:2])
+            kinds = {"dilated": TextureMatcher, "luminance": LuminanceMatcher, "both": ColourAndLuminanceMatcher}
+            tower = kinds[name](channels, dilated=True) if name in kinds else TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
                                  progress_printer(name, tower, probes, P.seed, args.eval_every, along))
