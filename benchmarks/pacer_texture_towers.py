@@ -160,9 +160,9 @@ def recognition(tower: TextureMatcher, maps, bank, data, seed: int) -> dict[str,
             rates[key].append(float(right[where].mean()))
         rates["boundary_cells"].append(1.0 - float(inner.mean()))
         for terrain in np.unique(pairs):
-            if (amap.labels == terrain).any():
-                rates.setdefault(f"terrain:{bank.terrains[terrain].name}", []).append(
-                    float(right[amap.labels == terrain].mean()))
+            where = amap.labels == terrain
+            if where.any():
+                rates.setdefault(f"terrain:{bank.terrains[terrain].name}", []).append(float(right[where].mean()))
     return {key: float(np.mean(v)) for key, v in rates.items()}
 
 
