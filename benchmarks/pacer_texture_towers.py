@@ -21,7 +21,9 @@ read-out's ceiling). Towers:
 * ``luminance``: ``dilated`` fed each image and patch in grey (its channel mean): texture and grey level only, to
   ask whether a tower blind to colour separates same-coloured terrains better than one that sees it;
 * ``both``: ``dilated`` and ``luminance`` side by side, their features concatenated before centring and
-  normalising (one cosine over both);
+  normalising, one cosine over both (PACER's matcher with ``pacer.model.match_luminance``);
+* ``balanced``: ``both`` with each tower centred and normalised apart, the cosine the mean of theirs, so that
+  colour cannot outweigh texture by the size of its features;
 * ``committed``: the committed phase-3 model's matcher as it is (no training here).
 
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
@@ -80,15 +82,12 @@ class LuminanceMatcher(TextureMatcher):
         return super().embed(x.mean(dim=1, keepdim=True).expand_as(x))
 
 
-class ColourAndLuminanceMatcher(TextureMatcher):
-    """A dilated tower on colour and a second one on grey, features concatenated."""
+class BalancedMatcher(TextureMatcher):
+    """PACER's two-tower matcher with each tower centred and normalised apart: the cosine the mean of theirs."""
 
-    def __init__(self, channels: tuple[int, ...], dilated: bool = True):
-        super().__init__(channels, dilated=dilated)
-        self.luminance = LuminanceMatcher(channels, dilated=dilated)
-
-    def embed(self, x: torch.Tensor) -> torch.Tensor:
-        return torch.cat([super().embed(x), self.luminance.embed(x)], dim=1)
+    def unit(self, features: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
+        parts = (features - centre).chunk(2, dim=1)
+        return torch.cat([F.normalize(part, dim=1) for part in parts], dim=1) / 2**0.5
 
 
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
@@ -206,7 +205,7 @@ def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
-                        choices=["committed", "pooled", "dilated", "luminance", "both"])
+                        choices=["committed", "pooled", "dilated", "luminance", "both", "balanced"])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
@@ -249,8 +248,10 @@ def main() -> None:
             losses = []
         else:
             channels = tuple(args.channels)
-            kinds = {"dilated": TextureMatcher, "luminance": LuminanceMatcher, "both": ColourAndLuminanceMatcher}
-            tower = kinds[name](channels, dilated=True) if name in kinds else TextureMatcher(channels[:2])
+            kinds = {"dilated": TextureMatcher, "luminance": LuminanceMatcher, "both": TextureMatcher,
+                     "balanced": BalancedMatcher}
+            tower = (kinds[name](channels, dilated=True, luminance=name in ("both", "balanced")) if name in kinds
+                     else TextureMatcher(channels[:2]))
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
                                  progress_printer(name, tower, probes, P.seed, args.eval_every, along))

@@ -571,6 +571,33 @@ def test_dilated_matcher_keeps_full_resolution_and_its_receptive_field(channels)
     assert int(rows.max() - rows.min()) > reach  # it does reach beyond the pixel's own neighbourhood
 
 
+def test_luminance_branch_concatenates_a_tower_blind_to_colour():
+    """With ``luminance`` the matcher's features are the colour tower's (the very features of a colour-only
+    matcher with the same weights) followed by a grey tower's, one cosine over both. The grey tower is blind to
+    any change of colour that keeps each pixel's channel mean (here: the channels permuted), the colour tower
+    is not."""
+    from navlab.pacer.model import TextureMatcher
+
+    torch.manual_seed(0)
+    both = TextureMatcher((8, 8), dilated=True, luminance=True).double()
+    colour = TextureMatcher((8, 8), dilated=True).double()
+    colour.load_state_dict({k: v for k, v in both.state_dict().items() if not k.startswith("grey_")})
+    image, context = torch.rand(2, 3, 32, 32, dtype=torch.float64), torch.rand(2, 9, 16, 8, dtype=torch.float64)
+    features = both.embed(image)
+    assert features.shape == (2, 16, 32, 32)
+    assert torch.equal(features[:, :8], colour.embed(image))
+    keys, centre = both.keys(context)
+    assert torch.allclose(keys.norm(dim=2), torch.ones(2, 6, dtype=torch.float64))
+    cos = both.cosines(image, keys, centre)
+    assert cos.shape == (2, 6, 32, 32) and float(cos.detach().abs().max()) <= 1 + 1e-12
+    permute = [2, 0, 1]
+    hue = image[:, permute]
+    assert torch.allclose(both.embed(hue)[:, 8:], features[:, 8:], atol=1e-12)
+    assert not torch.allclose(both.embed(hue)[:, :8], features[:, :8], atol=1e-3)
+    hue_context = context.reshape(2, 3, 3, 16, 8)[:, :, permute].reshape(2, 9, 16, 8)
+    assert not torch.allclose(both.cosines(hue, *both.keys(hue_context)), cos, atol=1e-3)
+
+
 def test_brief_training_follows_the_context_on_terrains_it_never_saw(smoke):
     """Trained briefly (30 steps) where only the context tells which terrain is preferred, the model gives
     the preferred terrain the lower cost on held-out items of colours it never saw, and swaps its costs

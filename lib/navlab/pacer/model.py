@@ -135,7 +135,10 @@ class TextureMatcher(nn.Module):
     those against 0.94 inside regions; benchmarks/pacer_texture_towers.py). Both are projected, centred on
     the mean of the context's 2n patch features (what the context's terrains share says nothing about which
     one a location is: uncentred ReLU features all point one way, cosines near 1 whatever the terrain) and
-    L2-normalised.
+    L2-normalised. With ``luminance`` a second tower of the same shape sees the image and patches in grey (their
+    channel mean), its features concatenated to the colour tower's: the colour tower separates terrains of
+    different colour, the grey one terrains that share a colour and differ in texture, which a tower that sees
+    colour never learns to (benchmarks/README.md, "a tower blind to colour").
     Every location attends over the 2n patches by cosine similarity (softmax with a learned
     temperature); the maps are
 
@@ -148,18 +151,17 @@ class TextureMatcher(nn.Module):
     Both are invariant to the order of the pairs and S changes sign when every pair is swapped.
     """
 
-    def __init__(self, channels: tuple[int, ...], colour_channels: int = 3, dilated: bool = False):
+    def __init__(self, channels: tuple[int, ...], colour_channels: int = 3, dilated: bool = False,
+                 luminance: bool = False):
         super().__init__()
-        layers, c = [], colour_channels
-        for stage, width in enumerate(channels):
-            d = 2**stage if dilated else 1
-            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True),
-                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True)]
-            layers += [] if dilated else [nn.AvgPool2d(2)]
-            c = width
-        self.features = nn.Sequential(*layers)
+        self.features = self._tower(channels, colour_channels, dilated)
+        self.project = nn.Conv2d(channels[-1], channels[-1], 1)
+        # a second tower fed the image in grey: trained where colour separates nearly every terrain, a colour
+        # tower never learns the texture statistics that tell same-coloured terrains apart, a colour-blind one
+        # must (benchmarks/README.md, "a tower blind to colour")
+        self.grey_features = self._tower(channels, 1, dilated) if luminance else None
+        self.grey_project = nn.Conv2d(channels[-1], channels[-1], 1) if luminance else None
         self.dilated = dilated
-        self.project = nn.Conv2d(c, c, 1)
         self.log_temperature = nn.Parameter(torch.tensor(2.3))  # e^2.3 ≈ 10: cosines 0.1 apart → e:1 weights
         # two patches show the same terrain with weight sigmoid(e^k (cos - c)); c = 0.7, e^k = 10 at the start:
         # a trained matcher's same-terrain patch pairs sit at cosine 0.93 (median), others below 0.76 (95%)
@@ -167,8 +169,30 @@ class TextureMatcher(nn.Module):
         self.log_same_sharpness = nn.Parameter(torch.tensor(2.3))
         self.colour_channels = colour_channels
 
+    @staticmethod
+    def _tower(channels: tuple[int, ...], c_in: int, dilated: bool) -> nn.Sequential:
+        layers, c = [], c_in
+        for stage, width in enumerate(channels):
+            d = 2**stage if dilated else 1
+            layers += [nn.Conv2d(c, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True),
+                       nn.Conv2d(width, width, 3, padding=d, dilation=d), nn.ReLU(inplace=True)]
+            layers += [] if dilated else [nn.AvgPool2d(2)]
+            c = width
+        return nn.Sequential(*layers)
+
     def embed(self, x: torch.Tensor) -> torch.Tensor:
-        return self.project(self.features(x - 0.5))
+        """Features (B, d, ...): the colour tower's, then (with ``luminance``) the grey tower's."""
+        colour = self.project(self.features(x - 0.5))
+        if self.grey_features is None:
+            return colour
+        grey = self.grey_project(self.grey_features(x.mean(dim=1, keepdim=True) - 0.5))
+        return torch.cat([colour, grey], dim=1)
+
+    def unit(self, features: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
+        """``features`` (B, d, ...) centred on ``centre`` (broadcast) and made unit length over both towers at
+        once: one cosine over the concatenated features (normalising each tower apart and averaging the two
+        cosines recognised less, unseen maps 0.641 against 0.726 at 2,000 steps; benchmarks/README.md)."""
+        return F.normalize(features - centre, dim=1)
 
     def keys(self, context: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """(B, 2n, d) unit patch features (the n preferred patches, then the n others), centred on their
@@ -179,14 +203,14 @@ class TextureMatcher(nn.Module):
         patches = torch.cat([context[:, :, :h], context[:, :, h:]], dim=1).reshape(b * 2 * n, c, h, -1)
         keys = self.embed(patches).mean(dim=(2, 3)).reshape(b, 2 * n, -1)
         centre = keys.mean(dim=1)
-        return F.normalize(keys - centre[:, None], dim=2), centre
+        return self.unit(keys.transpose(1, 2), centre[:, :, None]).transpose(1, 2), centre
 
     def cosines(self, image: torch.Tensor, keys: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
         """(B, 2n, H/s, W/s): every image location's cosine with each context patch."""
         feats = self.embed(image)
         if not self.dilated:  # a pooled tower's cells average over about one patch of support
             feats = F.avg_pool2d(feats, 3, stride=1, padding=1, count_include_pad=False)
-        feats = F.normalize(feats - centre[:, :, None, None], dim=1)
+        feats = self.unit(feats, centre[:, :, None, None])
         return torch.einsum("bkd,bdhw->bkhw", keys, feats)
 
     def patch_ranks(self, keys: torch.Tensor) -> torch.Tensor:
@@ -259,8 +283,8 @@ class PacerNet(nn.Module):
             b = cfg.bottleneck_channels
             self.fuse = nn.Sequential(nn.Linear(b + cfg.context_dim, b + cfg.context_dim // 2),
                                       nn.Linear(b + cfg.context_dim // 2, b))
-        self.matcher = (TextureMatcher(tuple(cfg.match_channels), colour_channels, cfg.match_dilated)
-                        if cfg.match_channels else None)
+        self.matcher = (TextureMatcher(tuple(cfg.match_channels), colour_channels, cfg.match_dilated,
+                                       cfg.match_luminance) if cfg.match_channels else None)
         if self.matcher is not None:  # the match maps enter the bottleneck and every decoder stage
             self.match_in = nn.ModuleList(nn.Conv2d(2, c, 1) for c in ups)
             # and S reaches the cost logit directly, with a learned gain: "looks like a less preferred

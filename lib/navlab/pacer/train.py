@@ -150,9 +150,10 @@ def _write_log(rows: list[dict], path: Path) -> None:
 def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet:
     """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
     path = Path(path)
-    # models saved before ``match_channels`` existed have no texture matcher, before ``match_dilated`` a pooled one
-    return load_network(path, lambda saved: build_model(PacerModelParams(**{"match_channels": (), "match_dilated": False,
-                                                                            **saved["model_config"]}),
+    # models saved before ``match_channels`` existed have no texture matcher, before ``match_dilated`` a pooled one,
+    # before ``match_luminance`` a colour tower alone
+    old = {"match_channels": (), "match_dilated": False, "match_luminance": False}
+    return load_network(path, lambda saved: build_model(PacerModelParams(**{**old, **saved["model_config"]}),
                                                         context_pairs=saved["context_pairs"]),
                         f"pacer_{path.parent.name}", device)
 

@@ -111,6 +111,9 @@ class PacerModelParams:
     # the tower keeps full resolution (dilations 1, 2, 4, ...) instead of pooling 2 x 2 per stage (issue 24: a
     # pooled tower mixes a 1-3 px sidewalk's features with its neighbours')
     match_dilated: bool
+    # a second, colour-blind tower beside the colour one, features concatenated (issue 24: the colour tower
+    # loses unseen terrains that share a colour and differ in texture)
+    match_luminance: bool
 
 
 @section
