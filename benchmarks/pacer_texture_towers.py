@@ -24,6 +24,7 @@ read-out's ceiling). Towers:
   normalising, one cosine over both (PACER's matcher with ``pacer.model.match_luminance``);
 * ``balanced``: ``both`` with each tower centred and normalised apart, the cosine the mean of theirs, so that
   colour cannot outweigh texture by the size of its features;
+* ``supervised``: ``both`` trained with a matching loss on each tower's own cosines beside the joint one;
 * ``committed``: the committed phase-3 model's matcher as it is (no training here).
 
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
@@ -90,6 +91,26 @@ class BalancedMatcher(TextureMatcher):
         return torch.cat([F.normalize(part, dim=1) for part in parts], dim=1) / 2**0.5
 
 
+class DeeplySupervisedMatcher(TextureMatcher):
+    """``both`` whose training also asks each tower alone to recognise (a matching loss on each tower's own
+    cosines beside the joint one), so that the grey tower keeps what it learns alone while colour is at hand."""
+
+    def __init__(self, channels: tuple[int, ...], dilated: bool = True, luminance: bool = True):
+        super().__init__(channels, dilated=dilated, luminance=luminance)
+        self.centred: list[torch.Tensor] = []
+
+    def unit(self, features: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
+        if self.training:  # keys (B, d, 2n), then the image's (B, d, H, W)
+            self.centred.append(features - centre)
+        return super().unit(features, centre)
+
+    def tower_cosines(self) -> list[torch.Tensor]:
+        """Each tower's own (B, 2n, H, W) cosines from the last ``keys`` and ``cosines`` calls' features."""
+        keys, feats = self.centred[-2:]
+        return [torch.einsum("bdk,bdhw->bkhw", F.normalize(k, dim=1), F.normalize(f, dim=1))
+                for k, f in zip(keys.chunk(2, dim=1), feats.chunk(2, dim=1))]
+
+
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
     """(B, 2n, H, W): every pixel's cosine with each context patch (preferred patches first); a pooled
     matcher's cells upsampled bilinearly."""
@@ -113,8 +134,13 @@ def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int,
         loader = DataLoader(items, batch_size=16, shuffle=True, generator=torch.Generator().manual_seed(seed + epoch))
         for batch in loader:
             pairs = batch["pairs"]
+            patch_terrains = torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1)
             loss = matching_loss(pixel_cosines(tower, batch["image"], batch["context"]), tower.log_temperature.exp(),
-                                 batch["labels"], torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1))
+                                 batch["labels"], patch_terrains)
+            if isinstance(tower, DeeplySupervisedMatcher):
+                for cosines in tower.tower_cosines():
+                    loss = loss + matching_loss(cosines, tower.log_temperature.exp(), batch["labels"], patch_terrains)
+                tower.centred.clear()
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
@@ -205,7 +231,7 @@ def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
-                        choices=["committed", "pooled", "dilated", "luminance", "both", "balanced"])
+                        choices=["committed", "pooled", "dilated", "luminance", "both", "balanced", "supervised"])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
@@ -249,8 +275,9 @@ def main() -> None:
         else:
             channels = tuple(args.channels)
             kinds = {"dilated": TextureMatcher, "luminance": LuminanceMatcher, "both": TextureMatcher,
-                     "balanced": BalancedMatcher}
-            tower = (kinds[name](channels, dilated=True, luminance=name in ("both", "balanced")) if name in kinds
+                     "balanced": BalancedMatcher, "supervised": DeeplySupervisedMatcher}
+            two = ("both", "balanced", "supervised")
+            tower = (kinds[name](channels, dilated=True, luminance=name in two) if name in kinds
                      else TextureMatcher(channels[:2]))
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
