@@ -95,8 +95,8 @@ class DeeplySupervisedMatcher(TextureMatcher):
     """``both`` whose training also asks each tower alone to recognise (a matching loss on each tower's own
     cosines beside the joint one), so that the grey tower keeps what it learns alone while colour is at hand."""
 
-    def __init__(self, channels: tuple[int, ...], dilated: bool = True, luminance: bool = True):
-        super().__init__(channels, dilated=dilated, luminance=luminance)
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
         self.centred: list[torch.Tensor] = []
 
     def unit(self, features: torch.Tensor, centre: torch.Tensor) -> torch.Tensor:
@@ -274,11 +274,14 @@ def main() -> None:
             losses = []
         else:
             channels = tuple(args.channels)
-            kinds = {"dilated": TextureMatcher, "luminance": LuminanceMatcher, "both": TextureMatcher,
-                     "balanced": BalancedMatcher, "supervised": DeeplySupervisedMatcher}
-            two = ("both", "balanced", "supervised")
-            tower = (kinds[name](channels, dilated=True, luminance=name in two) if name in kinds
-                     else TextureMatcher(channels[:2]))
+            kinds = {"dilated": (TextureMatcher, False), "luminance": (LuminanceMatcher, False),  # (class, two towers)
+                     "both": (TextureMatcher, True), "balanced": (BalancedMatcher, True),
+                     "supervised": (DeeplySupervisedMatcher, True)}
+            if name in kinds:
+                kind, two_towers = kinds[name]
+                tower = kind(channels, dilated=True, luminance=two_towers)
+            else:
+                tower = TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
             losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
                                  progress_printer(name, tower, probes, P.seed, args.eval_every, along))
