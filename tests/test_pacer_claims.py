@@ -10,6 +10,7 @@ from navlab.pacer.claims import (
     PAPER,
     agreement_against_target,
     gap_closed,
+    gap_fraction,
     margin_ranking_claims,
     on_par,
     paired_difference,
@@ -104,8 +105,11 @@ def test_gap_closed_is_the_share_of_the_chance_to_ceiling_gap():
     ceiling = chance + 0.4
     closes = gap_closed("m", chance + 0.36, chance, ceiling, "seen", "realistic")  # 0.9 of the gap on every map
     assert closes.verdict == "holds" and "0.90 of the gap" in closes.ours
-    short = gap_closed("m", chance + 0.2, chance, ceiling, "seen", "realistic")  # half the gap
-    assert short.verdict == "does not hold" and "0.50 of the gap" in short.ours
+    assert gap_closed("m", chance + 0.36, chance, ceiling, "seen", why="w").why == ""  # a claim that holds needs none
+    short = gap_closed("m", chance + 0.2, chance, ceiling, "seen", "realistic", why="w")  # half the gap
+    assert short.verdict == "does not hold" and "0.50 of the gap" in short.ours and short.why == "w"
+    assert gap_fraction(chance + 0.2, chance, ceiling) == pytest.approx(0.5)
+    assert gap_fraction(chance, chance, chance) is None
     noisy = gap_closed("m", chance + np.tile([0.0, 0.6], 10), chance, ceiling, "seen")  # 0.75 on average, spread
     assert noisy.verdict == "inconclusive"
     assert gap_closed("m", chance, chance, chance, "seen").verdict == "inconclusive"  # no room to close

@@ -138,15 +138,21 @@ def test_training_selects_the_epoch_of_best_map_window_score(tmp_path):
     best = max(range(len(log)), key=lambda k: (log[k, 3], -log[k, 2]))
     assert summary["select_on"] == "map_windows" and summary["best_epoch"] == best + 1
     assert summary["best_select_score"] == pytest.approx(log[best, 3], abs=1e-6)
+    # what the phase cost, for issue 24's budget: positive time, a process's memory, the settings it ran with
+    assert summary["train_seconds"] > 0 and summary["peak_rss_mib"] > 0
+    assert (summary["threads"], summary["workers"]) == (cfg.threads, cfg.workers)
     assert np.isfinite(log[:, 3]).all() and ((0 <= log[:, 3]) & (log[:, 3] <= 1)).all()
 
 
-def test_the_run_key_includes_the_selection():
+def test_the_run_key_includes_the_selection_and_the_thread_count_not_the_workers():
     smoke = load_params("smoke").pacer
     keys = {run_key(smoke.model, dataclasses.replace(smoke.train, **change), seed=0, phase="phase1", epochs=1,
                     sizes=[1], init_from=None, code="c")
-            for change in ({}, {"select_on": "val_loss"}, {"select_windows": 3})}
-    assert len(keys) == 3
+            for change in ({}, {"select_on": "val_loss"}, {"select_windows": 3}, {"threads": 2})}
+    assert len(keys) == 4  # a thread count sums convolutions in its own order: its checkpoint is its own
+    assert run_key(smoke.model, dataclasses.replace(smoke.train, workers=3), seed=0, phase="phase1", epochs=1,
+                   sizes=[1], init_from=None, code="c") == run_key(smoke.model, smoke.train, seed=0, phase="phase1",
+                                                                   epochs=1, sizes=[1], init_from=None, code="c")
 
 
 def test_select_on_is_validated_when_params_load(tmp_path):

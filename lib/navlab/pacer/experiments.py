@@ -193,13 +193,18 @@ def navigation_rows(maps: Sequence[AerialMap], methods: Mapping[str, tuple[Metho
     return NavigationResult(rows, shares, paths)
 
 
+def rounded(ci: tuple[float, float] | None) -> list[float] | None:
+    """An interval as report rows store it: [lo, hi] to 4 decimals (None stays None)."""
+    return None if ci is None else [round(float(v), 4) for v in ci]
+
+
 def tier_row(name: str, per_map: np.ndarray | None, gen: np.random.Generator) -> dict:
     """{"method", low, medium, high, low_ci, ...}: means over maps and their bootstrap 95% intervals."""
     row: dict = {"method": name}
     for k, tier in enumerate(TIER_NAMES):
         row[tier] = None if per_map is None else float(per_map[:, k].mean())
     for k, tier in enumerate(TIER_NAMES):
-        row[f"{tier}_ci"] = None if per_map is None else [round(v, 4) for v in bootstrap_mean_ci(per_map[:, k], gen)]
+        row[f"{tier}_ci"] = None if per_map is None else rounded(bootstrap_mean_ci(per_map[:, k], gen))
     return row
 
 
@@ -314,14 +319,14 @@ def context_following_rows(models: Mapping[str, torch.nn.Module], sets: Mapping[
             found[name, terrains, preference, context] = agreement
             rows.append({"model": name, "set": f"{terrains}/{preference}", "context": context,
                          "agreement": agreement.fraction, "pairs": agreement.pairs,
-                         "agreement_ci": None if agreement.ci is None else [round(v, 4) for v in agreement.ci]})
+                         "agreement_ci": rounded(agreement.ci)})
         for (terrains, preference), items in (windows or {}).items():
             scores = window_scores(model, items, cost_scale, seed, device=device)
             row = {"model": name, "set": f"{terrains}/{preference}", "context": "map windows",
                    "windows": len(items), "pairs": scores.counts["all_pairs"]}
             for metric in METRICS:
                 ci = scores.cis[metric]
-                row |= {metric: scores.values[metric], f"{metric}_ci": None if ci is None else [round(v, 4) for v in ci]}
+                row |= {metric: scores.values[metric], f"{metric}_ci": rounded(ci)}
             rows.append(row)
     return rows, found
 
@@ -354,5 +359,5 @@ def chain_context_rows(model: str, maps: Mapping[str, Sequence[AerialMap]], meth
                     ("chain - random pairs (maps)", difference, ci)):
                 rows.append({"model": model, "set": f"{terrains}/{preference}", "context": label,
                              "maps": len(values), "low_share": float(np.mean(values)),
-                             "low_share_ci": [round(v, 4) for v in interval]})
+                             "low_share_ci": rounded(interval)})
     return rows

@@ -26,7 +26,7 @@ from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.pacer.aerial import AerialMap
-from navlab.pacer.experiments import map_context
+from navlab.pacer.experiments import map_context, rounded
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import Preference
 from navlab.pacer.terrain import TerrainBank
@@ -99,13 +99,14 @@ def recognition_rows(models: Mapping[str, torch.nn.Module], maps: Mapping[str, S
             diff = found.rate - found.baseline
             rows.append({"model": name, "set": f"{terrains} maps", "context": RECOGNITION_CONTEXT,
                          "maps": len(found.rate), "recognition": float(found.rate.mean()),
-                         "recognition_ci": bootstrap_mean_ci(found.rate, rng(seed, "pacer.recognition", name, terrains)),
+                         "recognition_ci": rounded(bootstrap_mean_ci(found.rate, rng(seed, "pacer.recognition", name,
+                                                                                    terrains))),
                          "commonest_terrain": float(found.baseline.mean()),
-                         "commonest_terrain_ci": bootstrap_mean_ci(found.baseline,
-                                                                   rng(seed, "pacer.recognition.base", terrains)),
+                         "commonest_terrain_ci": rounded(bootstrap_mean_ci(found.baseline,
+                                                                           rng(seed, "pacer.recognition.base", terrains))),
                          "above_commonest": float(diff.mean()),
-                         "above_commonest_ci": bootstrap_mean_ci(diff, rng(seed, "pacer.recognition.diff", name,
-                                                                           terrains))})
+                         "above_commonest_ci": rounded(bootstrap_mean_ci(diff, rng(seed, "pacer.recognition.diff", name,
+                                                                                   terrains)))})
     return rows
 
 

@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import resource
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -115,9 +117,11 @@ def validation_loss(model: PacerNet, datasets: Sequence[Dataset], batch_size: in
 
 def run_key(model_cfg: PacerModelParams, train_cfg: PacerTrainParams, *, seed: int, phase: str, epochs: int,
             sizes: Sequence[int], init_from: Path | None, code: str, inputs: Any = None) -> str:
-    """What a checkpoint must match to be resumed: code, parameters (not the device, thread or worker
-    count, which change no result on one machine), epochs, dataset sizes, inputs and the initial weights."""
-    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("device", "threads", "workers", "epochs")}
+    """What a checkpoint must match to be resumed: code, parameters (the device and the thread count too: each
+    sums a convolution's terms in its own order, so a run resumed under another trains weights no uninterrupted
+    run would; not the worker count, which renders the same seeded items), epochs, dataset sizes, inputs and
+    the initial weights."""
+    train = {k: v for k, v in dataclasses.asdict(train_cfg).items() if k not in ("workers", "epochs")}
     init = sha256_file(init_from) if init_from is not None else None
     return sha256_json({"code": code, "model": dataclasses.asdict(model_cfg), "train": train, "seed": seed,
                         "phase": phase, "epochs": epochs, "sizes": list(sizes), "init": init, "inputs": inputs})
@@ -138,6 +142,15 @@ def training_code(datasets: Sequence[Dataset]) -> str:
     modules = {type(ds).__module__ for ds in datasets}
     modules |= {type(ds.dataset).__module__ for ds in datasets if hasattr(ds, "dataset")}  # torch Subset
     return code_fingerprint(__name__, *sorted(m for m in modules if m.startswith("navlab.")))
+
+
+def training_cost(rows: Sequence[dict], train_cfg: PacerTrainParams) -> dict:
+    """What the phase cost (issue 24's budget): wall seconds summed over its epochs (a resumed run counts the
+    epochs it resumed, each timed where it ran: training, validation and selection), the peak resident memory
+    of this process and of its item-rendering workers, and the threads and workers it ran with."""
+    peak_kib = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+    return {"train_seconds": round(sum(r.get("seconds", 0.0) for r in rows), 1), "peak_rss_mib": round(peak_kib / 1024),
+            "threads": train_cfg.threads, "workers": train_cfg.workers}
 
 
 def _write_log(rows: list[dict], path: Path) -> None:
@@ -283,6 +296,7 @@ def train_phase(
     extra = ExtraLosses.of(train_cfg)
 
     def train_epoch(epoch: int) -> dict[str, float]:
+        started = time.perf_counter()
         for ds in train_sets:  # fresh renders per epoch where a dataset can make them (seeded by epoch)
             if hasattr(ds, "set_epoch"):
                 ds.set_epoch(epoch)
@@ -295,7 +309,8 @@ def train_phase(
         val = validation_loss(model, val_items, train_cfg.batch_size, device)
         score = (selection_score(model, select_windows, cost_scale, batch=train_cfg.batch_size, device=device)
                  if select else float("nan"))
-        return {"train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score}
+        return {"train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score,
+                "seconds": time.perf_counter() - started}
 
     fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, epochs, train_cfg.patience,
                                                f"PACER {phase}", progress),
@@ -309,6 +324,7 @@ def train_phase(
         "select_on": train_cfg.select_on,
         "best_select_score": best["select_score"] if select and best is not None else None,
         "entropy_floor": entropy_floor(val_items), "steps": len(rows) * steps_per_epoch,
+        **training_cost(rows, train_cfg),
     })
     model_path = out_dir / "model.pt"
     save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
