@@ -7,9 +7,15 @@ import numpy as np
 import pytest
 import torch
 
-from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.aerial import AerialMap, aerial_maps
 from navlab.pacer.model import build_model
-from navlab.pacer.recognition import RECOGNITION_COLUMNS, patch_cosines, recognition, recognition_rows
+from navlab.pacer.recognition import (
+    RECOGNITION_COLUMNS,
+    patch_cosines,
+    recognition,
+    recognition_rows,
+    true_terrain_method,
+)
 from navlab.pacer.terrain import load_terrain_bank
 
 
@@ -72,3 +78,26 @@ def test_rows_on_smoke_maps(model, smoke_params, smoke_data):
         assert 0 <= r["recognition"] <= 1 and 0 < r["commonest_terrain"] <= 1
         assert r["recognition_ci"][0] <= r["recognition"] <= r["recognition_ci"][1]
         assert r["above_commonest"] == pytest.approx(r["recognition"] - r["commonest_terrain"])
+
+
+def test_true_terrain_costs_follow_the_matchers_own_order_inference(model, smoke_params):
+    """Every pixel of a terrain costs (1 - place) / 2 of its patches (one cost per terrain, in [0, 1]); a terrain
+    the context does not show costs 0.5; swapping the halves of every pair mirrors every cost about 0.5 (the
+    places change sign); a model without a matcher gives a row of None."""
+    n, p = smoke_params.pacer.data.n_pairs, smoke_params.pacer.data.patch_size
+    context = torch.rand(3 * n, 2 * p, p, generator=torch.Generator().manual_seed(5)).numpy()
+    pairs = np.array([[1, 2], [2, 3], [4, 5]])[:n]
+    labels = np.repeat(np.arange(1, 7), 4).reshape(4, 6)  # terrain 6 is in no pair
+    amap = AerialMap(np.zeros((3, 4, 6), np.float32), labels, np.arange(1, 7), (0, 0), (3, 5))
+    method = true_terrain_method(model.matcher)
+    cost = method(amap, None, context, pairs)
+    swapped = np.concatenate([context[:, p:], context[:, :p]], axis=1)
+    mirrored = method(amap, None, swapped, pairs[:, ::-1])
+    with torch.no_grad():
+        places = model.matcher.patch_ranks(model.matcher.keys(torch.as_tensor(context)[None])[0])[0].numpy()
+    patch_terrains = np.concatenate([pairs[:, 0], pairs[:, 1]])
+    for t in range(1, 6):
+        np.testing.assert_allclose(cost[labels == t], np.mean((1 - places[patch_terrains == t]) / 2), atol=1e-6)
+    np.testing.assert_allclose(cost[labels == 6], 0.5)
+    np.testing.assert_allclose(mirrored, 1 - cost, atol=1e-5)
+    assert true_terrain_method(None)(amap, None, context, pairs) is None

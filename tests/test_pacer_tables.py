@@ -11,7 +11,7 @@ import pytest
 from navlab.core.seeding import rng
 from navlab.pacer.claims import PAPER, gap_closed, gap_fraction, seen_claims, sentence, unseen_claims
 from navlab.pacer.experiments import Agreement, NavigationResult
-from navlab.pacer.recognition import RECOGNITION_CONTEXT
+from navlab.pacer.recognition import RECOGNITION_CONTEXT, true_terrains_name
 from navlab.pacer.tables import LIMITED, ORACLE, UNIFORM, navigation_tables, phase_tables
 
 MAPS = 12
@@ -29,7 +29,7 @@ def result(lows: dict[str, float], key: str) -> NavigationResult:
 
 
 NAVIGATION = {"PACER": 0.45, "PACER (uninformative context)": 0.30, "STERLING-style": 0.44, "Classifier": 0.31,
-              "Ground truth": 0.66, ORACLE: 0.65, LIMITED: 0.55, UNIFORM: 0.28}
+              "Ground truth": 0.66, ORACLE: 0.65, LIMITED: 0.55, true_terrains_name("PACER"): 0.60, UNIFORM: 0.28}
 CLASSIFIER = {"epochs": 4, "val_accuracy": 0.91, "best_epoch": 3}
 
 
@@ -46,6 +46,10 @@ def test_navigation_tables_state_each_claim_and_the_gap(smoke_params):
     limited = gap_fraction(results["seen"].shares[LIMITED][:, 0], results["seen"].shares[UNIFORM][:, 0],
                            results["seen"].shares[ORACLE][:, 0])
     assert f"the context-limited oracle) closes {limited:.2f} of this gap" in seen.claims[-1].why
+    # and how much the same model closes given every pixel's true terrain (what its recognition costs)
+    true = gap_fraction(*(results["seen"].shares[m][:, 0] for m in (true_terrains_name("PACER"), UNIFORM, ORACLE)))
+    assert f"given every pixel's true terrain, PACER's own order inference closes {true:.2f}" in seen.claims[-1].why
+    assert true > limited  # the constructed rows: 0.60 against 0.55, so the two fractions are told apart
     assert [c.claim for c in unseen.claims] == [c.claim for c in unseen_claims(results["unseen"].shares)] + [
         "PACER closes at least 75% of the chance-to-oracle gap (unseen, realistic)"]
     for table in (seen, unseen):

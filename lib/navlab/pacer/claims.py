@@ -196,7 +196,7 @@ def gap_closed(name: str, low: np.ndarray, chance_low: np.ndarray, ceiling_low: 
     statement = f"{name} closes at least {GAP_TARGET:.0%} of the chance-to-oracle gap ({', '.join(map(str, keys))})"
     if room.sum() <= 0:
         return Claim(statement, "inconclusive", "the oracle keeps no more to the low tier than chance here")
-    share = gap_fraction(low, chance_low, ceiling_low)
+    share = float(gain.sum() / room.sum())
     lo, hi = bootstrap_ratio_ci(gain, room, rng(0, "pacer.gap", name, *keys))
     verdict = "holds" if lo >= GAP_TARGET else "does not hold" if hi < GAP_TARGET else "inconclusive"
     return Claim(statement, verdict, f"{share:.2f} of the gap, 95% CI [{lo:.2f}, {hi:.2f}] over {len(gain)} maps "

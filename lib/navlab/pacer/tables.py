@@ -35,7 +35,12 @@ from navlab.pacer.experiments import (
     phase_rows,
     protocol_note,
 )
-from navlab.pacer.recognition import RECOGNITION_COLUMNS, RECOGNITION_CONTEXT, recognition_note
+from navlab.pacer.recognition import (
+    RECOGNITION_COLUMNS,
+    RECOGNITION_CONTEXT,
+    recognition_note,
+    true_terrains_name,
+)
 
 UNIFORM, ORACLE, LIMITED = "Uniform costmap (chance)", "Window oracle (ceiling)", "Context-limited oracle"
 PREFERENCES = ("realistic", "inverted")
@@ -43,23 +48,32 @@ MARGIN_COLUMNS = ["model", "test_real", "test_shuffled", "test_synthetic", "test
                   "test_synthetic_ci"]
 
 
-def _limited_oracle_note(pacer: PacerParams) -> str:
+def _reference_note(pacer: PacerParams) -> str:
     return (f"Context-limited oracle: each terrain costs its mean rank over every ordering of the map's terrains "
-            f"consistent with the context's {pacer.data.n_pairs} pairs (a perfect context-follower with no prior).")
+            f"consistent with the context's {pacer.data.n_pairs} pairs (a perfect context-follower with no prior). "
+            f"'{true_terrains_name('<model>')}': that model's own order inference over the context (its matcher's "
+            "patch places) costing every pixel by its true terrain, i.e. with perfect recognition "
+            "(navlab.pacer.recognition.true_terrain_method).")
 
 
 def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagnosis: str = "") -> Claim:
     """``claims.gap_closed`` of ``model``'s per-map low-tier share between the uniform costmap and the oracle;
     short of the target, why names what the context-limited oracle closes on the same maps (how much of the
-    gap a perfect context-follower with no prior can close at all), then ``diagnosis``."""
+    gap a perfect context-follower with no prior can close at all), what the same model closes given every
+    pixel's true terrain (its row ``true_terrains_name(model)``, where present: what its recognition costs),
+    then ``diagnosis``."""
     low = {m: s[:, 0] for m, s in shares.items() if s is not None}
+    closed = {m: gap_fraction(low[m], low[UNIFORM], low[ORACLE]) for m in (LIMITED, true_terrains_name(model))
+              if m in low and m != model}
     why = []
-    if model != LIMITED and LIMITED in low:
-        limited = gap_fraction(low[LIMITED], low[UNIFORM], low[ORACLE])
-        if limited is not None:
-            why.append(f"a perfect context-follower with no prior (the context-limited oracle) closes {limited:.2f} "
-                       "of this gap on the same maps")
-    return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys, why="; ".join(p for p in [*why, diagnosis] if p))
+    if closed.get(LIMITED) is not None:
+        why.append(f"a perfect context-follower with no prior (the context-limited oracle) closes {closed[LIMITED]:.2f} "
+                   "of this gap on the same maps")
+    if closed.get(true_terrains_name(model)) is not None:
+        why.append(f"given every pixel's true terrain, {model}'s own order inference closes "
+                   f"{closed[true_terrains_name(model)]:.2f} (the rest of the shortfall is recognition)")
+    why = "; ".join([*why, diagnosis] if diagnosis else why)
+    return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys, why=why)
 
 
 def _map_diagnosis(rows: Sequence[dict], model: str, env: str, pref: str) -> str:
@@ -93,7 +107,7 @@ def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mappi
                        f"(epoch {classifier['best_epoch']}).")
     seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic")]
     unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic")]
-    notes1 = " ".join([setup + classifier_note + " " + _limited_oracle_note(pacer), *map(sentence, seen)])
+    notes1 = " ".join([setup + classifier_note + " " + _reference_note(pacer), *map(sentence, seen)])
     notes2 = " ".join([setup, ("Classifier: null, a semantic classifier knows only the seen labels, so no preference "
                                "over unseen terrain can be expressed to it (the paper omits it for the same reason)."),
                        *map(sentence, unseen)])
@@ -194,7 +208,7 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
     rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
     seen, unseen = [phase1, *gaps("seen")], [synthetic, *gaps("unseen")]
     margin = margin_ranking_claims(margin_rows)
-    notes3 = f"{setup} {_limited_oracle_note(pacer)} " + " ".join(map(sentence, seen))
+    notes3 = f"{setup} {_reference_note(pacer)} " + " ".join(map(sentence, seen))
     notes4 = f"{setup} " + " ".join(map(sentence, unseen))
     notes5 = (f"{pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
               "points each (pairs of equal rank count any cost difference as error); intervals: bootstrap over items. "
