@@ -25,6 +25,9 @@ read-out's ceiling). Towers:
 * ``balanced``: ``both`` with each tower centred and normalised apart, the cosine the mean of theirs, so that
   colour cannot outweigh texture by the size of its features;
 * ``supervised``: ``both`` trained with a matching loss on each tower's own cosines beside the joint one;
+* ``hypercolumn``: ``both`` whose features are every stage's output side by side (receptive fields 5, 13 and
+  29 px), projected together: a 4-px sidewalk keeps features of its own beside the wide ones, which near a
+  boundary mostly describe the neighbours;
 * ``committed``: the committed phase-3 model's matcher as it is (no training here).
 
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
@@ -52,6 +55,7 @@ from pathlib import Path
 import numpy as np
 import torch
 from scipy import ndimage
+from torch import nn
 from torch.nn import functional as F
 from torch.utils.data import DataLoader
 
@@ -109,6 +113,32 @@ class DeeplySupervisedMatcher(TextureMatcher):
         keys, feats = self.centred[-2:]
         return [torch.einsum("bdk,bdhw->bkhw", F.normalize(k, dim=1), F.normalize(f, dim=1))
                 for k, f in zip(keys.chunk(2, dim=1), feats.chunk(2, dim=1))]
+
+
+class HypercolumnMatcher(TextureMatcher):
+    """``both`` with each tower's stage outputs (after each conv pair) concatenated before the projection."""
+
+    def __init__(self, channels: tuple[int, ...], **kwargs):
+        super().__init__(channels, **kwargs)
+        width = sum(channels)
+        self.project = nn.Conv2d(width, width, 1)
+        self.grey_project = nn.Conv2d(width, width, 1) if self.grey_features is not None else None
+
+    @staticmethod
+    def stages(tower: nn.Sequential, x: torch.Tensor) -> torch.Tensor:
+        outputs = []
+        for index, layer in enumerate(tower):
+            x = layer(x)
+            if index % 4 == 3:  # conv, ReLU, conv, ReLU per stage (dilated: no pooling)
+                outputs.append(x)
+        return torch.cat(outputs, dim=1)
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        colour = self.project(self.stages(self.features, x - 0.5))
+        if self.grey_features is None:
+            return colour
+        grey = self.grey_project(self.stages(self.grey_features, x.mean(dim=1, keepdim=True) - 0.5))
+        return torch.cat([colour, grey], dim=1)
 
 
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
@@ -231,7 +261,8 @@ def progress_printer(name: str, tower: TextureMatcher, probes: dict, seed: int, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
-                        choices=["committed", "pooled", "dilated", "luminance", "both", "balanced", "supervised"])
+                        choices=["committed", "pooled", "dilated", "luminance", "both", "balanced", "supervised",
+                                 "hypercolumn"])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
@@ -276,7 +307,7 @@ def main() -> None:
             channels = tuple(args.channels)
             kinds = {"dilated": (TextureMatcher, False), "luminance": (LuminanceMatcher, False),  # (class, two towers)
                      "both": (TextureMatcher, True), "balanced": (BalancedMatcher, True),
-                     "supervised": (DeeplySupervisedMatcher, True)}
+                     "supervised": (DeeplySupervisedMatcher, True), "hypercolumn": (HypercolumnMatcher, True)}
             if name in kinds:
                 kind, two_towers = kinds[name]
                 tower = kind(channels, dilated=True, luminance=two_towers)
