@@ -71,7 +71,7 @@ def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagno
                    "of this gap on the same maps")
     if closed.get(true_terrains_name(model)) is not None:
         why.append(f"given every pixel's true terrain, {model}'s own order inference closes "
-                   f"{closed[true_terrains_name(model)]:.2f} (the rest of the shortfall is recognition)")
+                   f"{closed[true_terrains_name(model)]:.2f} (the difference is what its misrecognition costs)")
     why = "; ".join([*why, diagnosis] if diagnosis else why)
     return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys, why=why)
 
