@@ -150,8 +150,32 @@ def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
 
 
-def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int, seed: int,
+def boundary_weighted_loss(cosines: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
+                           patch_terrains: torch.Tensor, weight: float) -> torch.Tensor:
+    """``matching_loss`` with the pixels within 4 px of another in-view terrain weighing ``weight`` x the rest:
+    the weighted mean of the loss over those pixels and over the others (1: ``matching_loss`` itself)."""
+    if weight == 1.0:
+        return matching_loss(cosines, temperature, labels, patch_terrains)
+    ids = labels.to(torch.float32)[:, None]
+    pad = INTERIOR_PX // 2
+    highest = F.max_pool2d(ids, INTERIOR_PX, stride=1, padding=pad)
+    lowest = -F.max_pool2d(-torch.where(ids < 0, torch.inf, ids), INTERIOR_PX, stride=1, padding=pad)
+    near = ((highest != lowest) & (ids >= 0))[:, 0]
+    shown = (patch_terrains[:, :, None, None] == labels[:, None]).any(dim=1)
+    total, mass = cosines.sum() * 0.0, 0.0
+    for part, w in ((near, weight), (~near, 1.0)):
+        count = int((part & shown).sum())
+        if count:
+            total = total + w * count * matching_loss(cosines, temperature, labels.masked_fill(~part, -1),
+                                                      patch_terrains)
+            mass += w * count
+    return total / max(mass, 1.0)
+
+
+def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, run: argparse.Namespace,
                 on_step=lambda step: None) -> list[float]:
+    """``run.steps`` Adam steps of the matching loss (boundary pixels weighted ``run.boundary_weight``)."""
+    steps, seed = run.steps, run.seed
     data = params.pacer.data
     data = dataclasses.replace(data, layout=dataclasses.replace(data.layout, street_windows=0.5))
     items = pacer_dataset(dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, data=data)),
@@ -165,8 +189,9 @@ def train_tower(tower: TextureMatcher, params, data_dir: Path, bank, steps: int,
         for batch in loader:
             pairs = batch["pairs"]
             patch_terrains = torch.cat([pairs[:, :, 0], pairs[:, :, 1]], dim=1)
-            loss = matching_loss(pixel_cosines(tower, batch["image"], batch["context"]), tower.log_temperature.exp(),
-                                 batch["labels"], patch_terrains)
+            loss = boundary_weighted_loss(pixel_cosines(tower, batch["image"], batch["context"]),
+                                          tower.log_temperature.exp(), batch["labels"], patch_terrains,
+                                          run.boundary_weight)
             if isinstance(tower, DeeplySupervisedMatcher):
                 for cosines in tower.tower_cosines():
                     loss = loss + matching_loss(cosines, tower.log_temperature.exp(), batch["labels"], patch_terrains)
@@ -275,6 +300,8 @@ def main() -> None:
     parser.add_argument("--data-dir", type=Path, default=ROOT / "data")
     parser.add_argument("--artifacts-dir", type=Path, default=ROOT / "artifacts")
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--boundary-weight", type=float, default=1.0,
+                        help="weight of pixels within 4 px of another terrain in the matching loss (1: all alike)")
     parser.add_argument("--out", type=Path, default=None, help="also write the results as JSON here")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
@@ -314,7 +341,7 @@ def main() -> None:
             else:
                 tower = TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
-            losses = train_tower(tower, params, args.data_dir, bank, args.steps, args.seed,
+            losses = train_tower(tower, params, args.data_dir, bank, args,
                                  progress_printer(name, tower, probes, P.seed, args.eval_every, along))
         tower.eval()
         trained = time.time() - started
@@ -338,6 +365,7 @@ def main() -> None:
                               "final_loss": float(np.mean(losses[-250:])) if losses else None})
     if args.out is not None:
         args.out.write_text(json.dumps({"steps": args.steps, "seed": args.seed, "channels": args.channels,
+                                        "boundary_weight": args.boundary_weight,
                                         "recolour": dataclasses.asdict(P.data.recolour),
                                         "hold_out": args.hold_out, "along": along, "results": found}, indent=1))
         print(f"wrote {args.out}")
