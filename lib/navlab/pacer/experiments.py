@@ -141,14 +141,19 @@ def classifier_method(classifier: SemanticClassifier, bank: TerrainBank, prefere
     return cost
 
 
+def terrain_costmap(labels: np.ndarray, cost_of: Mapping[int, float]) -> np.ndarray:
+    """float32 costs of the shape of ``labels``: each pixel its terrain's entry of ``cost_of`` (the reference rows
+    that cost a map terrain by terrain)."""
+    return np.vectorize(cost_of.__getitem__, otypes=[np.float32])(labels)
+
+
 def context_limited_oracle_method() -> Method:
     """Reference row: what a perfect follower of the context with no prior can reach. Each terrain of the
     map costs its mean rank over every ordering of the map's terrains consistent with the context's
     pairs (``preferences.context_limited_costs``); pairs the context leaves open average out."""
     def cost(amap, _ordering, _context, pairs):
         terrains = np.asarray(amap.terrains, dtype=np.int64)
-        lookup = dict(zip(terrains.tolist(), context_limited_costs(terrains, pairs).tolist()))
-        return np.vectorize(lookup.__getitem__, otypes=[np.float32])(amap.labels)
+        return terrain_costmap(amap.labels, dict(zip(terrains.tolist(), context_limited_costs(terrains, pairs).tolist())))
     return cost
 
 

@@ -14,9 +14,10 @@ returns only the maps it derives from them; ``tests/test_pacer_recognition.py`` 
 network's own preference map S back.
 
 ``true_terrain_method`` gives the other half of the chain its own row in Tables I-IV: the same model's order
-inference (its matcher's patch places) costing every pixel by the terrain really there. On the committed maps
-that row closes 0.80 / 0.80 / 0.62 / 0.88 of the gap where the model closes 0.66 / 0.38 / 0.27 / 0.59
-(seen/unseen x realistic/inverted, benchmarks/README.md): the pairs are read well enough; recognition is short.
+inference (its matcher's patch places) costing every pixel by the terrain really there: the distance from that
+row down to the model's own is what misrecognition costs the robot (measured on the 2026-11-28 model in
+benchmarks/README.md, "what recognition costs the robot, and where": the pairs were read well enough, recognition,
+mostly within 4 px of another terrain, was short).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.pacer.aerial import AerialMap
-from navlab.pacer.experiments import Method, map_context, rounded
+from navlab.pacer.experiments import Method, map_context, rounded, terrain_costmap
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import Preference
 from navlab.pacer.terrain import TerrainBank
@@ -147,7 +148,6 @@ def true_terrain_method(matcher: TextureMatcher | None) -> Method:
         keys, _ = matcher.keys(torch.as_tensor(context, dtype=torch.float32, device=device)[None])
         cost_of_patch = ((1.0 - matcher.patch_ranks(keys)[0]) / 2).cpu().numpy()
         patch_terrains = np.concatenate([pairs[:, 0], pairs[:, 1]])
-        lookup = {int(t): float(cost_of_patch[patch_terrains == t].mean()) if (patch_terrains == t).any() else 0.5
-                  for t in np.unique(amap.labels)}
-        return np.vectorize(lookup.__getitem__, otypes=[np.float32])(amap.labels)
+        return terrain_costmap(amap.labels, {int(t): float(cost_of_patch[patch_terrains == t].mean())
+                                             if (patch_terrains == t).any() else 0.5 for t in np.unique(amap.labels)})
     return cost

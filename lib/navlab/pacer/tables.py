@@ -65,14 +65,14 @@ def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagno
     low = {m: s[:, 0] for m, s in shares.items() if s is not None}
     closed = {m: gap_fraction(low[m], low[UNIFORM], low[ORACLE]) for m in (LIMITED, true_terrains_name(model))
               if m in low and m != model}
-    why = []
+    reasons = []
     if closed.get(LIMITED) is not None:
-        why.append(f"a perfect context-follower with no prior (the context-limited oracle) closes {closed[LIMITED]:.2f} "
+        reasons.append(f"a perfect context-follower with no prior (the context-limited oracle) closes {closed[LIMITED]:.2f} "
                    "of this gap on the same maps")
     if closed.get(true_terrains_name(model)) is not None:
-        why.append(f"given every pixel's true terrain, {model}'s own order inference closes "
+        reasons.append(f"given every pixel's true terrain, {model}'s own order inference closes "
                    f"{closed[true_terrains_name(model)]:.2f} (the difference is what its misrecognition costs)")
-    why = "; ".join([*why, diagnosis] if diagnosis else why)
+    why = "; ".join([*reasons, diagnosis] if diagnosis else reasons)
     return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys, why=why)
 
 
