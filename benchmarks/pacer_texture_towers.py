@@ -54,7 +54,6 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from scipy import ndimage
 from torch import nn
 from torch.nn import functional as F
 from torch.utils.data import DataLoader
@@ -150,17 +149,23 @@ def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.T
     return F.interpolate(cos, size=image.shape[-2:], mode="bilinear", align_corners=False)
 
 
+def near_boundary(labels: torch.Tensor) -> torch.Tensor:
+    """(B, H, W) bool: in-view pixels whose INTERIOR_PX-square neighbourhood shows another in-view terrain (labels
+    (B, H, W), negative out of view; the image's edge borders nothing)."""
+    ids = labels.to(torch.float32)[:, None]
+    pad = INTERIOR_PX // 2
+    highest = F.max_pool2d(ids, INTERIOR_PX, stride=1, padding=pad)
+    lowest = -F.max_pool2d(-torch.where(ids < 0, torch.inf, ids), INTERIOR_PX, stride=1, padding=pad)
+    return ((highest != lowest) & (ids >= 0))[:, 0]
+
+
 def boundary_weighted_loss(cosines: torch.Tensor, temperature: torch.Tensor, labels: torch.Tensor,
                            patch_terrains: torch.Tensor, weight: float) -> torch.Tensor:
     """``matching_loss`` with the pixels within 4 px of another in-view terrain weighing ``weight`` x the rest:
     the weighted mean of the loss over those pixels and over the others (1: ``matching_loss`` itself)."""
     if weight == 1.0:
         return matching_loss(cosines, temperature, labels, patch_terrains)
-    ids = labels.to(torch.float32)[:, None]
-    pad = INTERIOR_PX // 2
-    highest = F.max_pool2d(ids, INTERIOR_PX, stride=1, padding=pad)
-    lowest = -F.max_pool2d(-torch.where(ids < 0, torch.inf, ids), INTERIOR_PX, stride=1, padding=pad)
-    near = ((highest != lowest) & (ids >= 0))[:, 0]
+    near = near_boundary(labels)
     shown = (patch_terrains[:, :, None, None] == labels[:, None]).any(dim=1)
     total, mass = cosines.sum() * 0.0, 0.0
     for part, w in ((near, weight), (~near, 1.0)):
@@ -235,7 +240,7 @@ def recognition(tower: TextureMatcher, maps, bank, data, seed: int) -> dict[str,
         _, context, pairs = map_context(bank, data, amap, "realistic", True, seed, index)
         right = nearest_terrain(tower, amap, context, pairs) == amap.labels
         named = np.isin(amap.labels, pairs)
-        inner = ndimage.minimum_filter(amap.labels, INTERIOR_PX) == ndimage.maximum_filter(amap.labels, INTERIOR_PX)
+        inner = ~near_boundary(torch.as_tensor(amap.labels)[None])[0].numpy()
         for key, where in (("all", named), ("interior", named & inner), ("boundary", named & ~inner)):
             rates[key].append(float(right[where].mean()))
         rates["boundary_cells"].append(1.0 - float(inner.mean()))
