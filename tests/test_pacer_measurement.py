@@ -20,6 +20,7 @@ from navlab.pacer.experiments import (
     context_limited_oracle_method,
     map_context,
     navigation_rows,
+    terrain_costmap,
     uniform_method,
     window_oracle_method,
 )
@@ -156,3 +157,17 @@ def test_context_limited_oracle_costs_follow_the_pairs_and_average_the_rest(bank
     np.testing.assert_allclose(cost[0], [1 / 6, 5 / 6, 1 / 2], atol=1e-6)
     with pytest.raises(ValueError, match="contradict"):
         mean_consistent_ranks(np.array([a, b]), np.array([[a, b], [b, a]]))
+
+
+@given(st.lists(st.integers(0, 5), min_size=1, max_size=40), st.lists(st.floats(0, 1, width=32), min_size=6, max_size=6))
+def test_terrain_costmap_prices_every_pixel_by_its_terrain(labels, costs):
+    labels = np.asarray(labels, dtype=np.int64).reshape(1, -1)
+    cost_of = dict(enumerate(costs))
+    expected = np.array([[np.float32(cost_of[t]) for t in labels[0]]], dtype=np.float32)
+    assert terrain_costmap(labels, cost_of).dtype == np.float32
+    np.testing.assert_array_equal(terrain_costmap(labels, cost_of), expected)
+
+
+def test_terrain_costmap_names_an_unpriced_terrain():
+    with pytest.raises(ValueError, match=r"terrains \[7\]"):
+        terrain_costmap(np.array([[1, 7]]), {1: 0.5})

@@ -143,8 +143,13 @@ def classifier_method(classifier: SemanticClassifier, bank: TerrainBank, prefere
 
 def terrain_costmap(labels: np.ndarray, cost_of: Mapping[int, float]) -> np.ndarray:
     """float32 costs of the shape of ``labels``: each pixel its terrain's entry of ``cost_of`` (the reference rows
-    that cost a map terrain by terrain)."""
-    return np.vectorize(cost_of.__getitem__, otypes=[np.float32])(labels)
+    that cost a map terrain by terrain). One look-up per distinct terrain, not per pixel."""
+    terrains, index = np.unique(labels, return_inverse=True)
+    missing = [t for t in terrains.tolist() if t not in cost_of]
+    if missing:
+        raise ValueError(f"labels hold terrains {missing} that have no cost (priced: {sorted(cost_of)}); "
+                         "give every terrain of the map a cost")
+    return np.asarray([cost_of[t] for t in terrains.tolist()], dtype=np.float32)[index].reshape(labels.shape)
 
 
 def context_limited_oracle_method() -> Method:
