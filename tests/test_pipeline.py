@@ -1,5 +1,6 @@
 """dvc.yaml covers every notebook and artefact step, and every table it lists feeds the report index."""
 
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -7,6 +8,7 @@ import yaml
 
 from navlab.pipeline.dvc_yaml import drifted, lock_disagreements, stale_stages
 from navlab.pipeline.notebooks import discover
+from navlab.pipeline.results import FIGURES
 from navlab.pipeline.steps import artifact_steps
 from navlab.viz.playground import is_playground
 
@@ -34,6 +36,17 @@ def test_every_metric_feeds_the_index():
             path = next(iter(metric)) if isinstance(metric, dict) else metric
             assert path in index_deps, f"{path} (stage {name}) is not a dep of reports_index"
             assert path.startswith("reports/") and path.endswith(".json")
+
+
+def test_every_figure_the_results_page_shows_is_committed_by_its_stage():
+    """A fresh clone has no DVC cache: the page's figures must come with git, from outs DVC does not cache."""
+    committed = [next(iter(o)) for stage in STAGES.values() for o in stage.get("outs", [])
+                 if isinstance(o, dict) and next(iter(o.values())).get("cache") is False]
+    tracked = set(subprocess.run(["git", "ls-files", "reports"], capture_output=True, text=True, check=True).stdout.split())
+    for source, _ in (f for chosen in FIGURES.values() for f in chosen):
+        path = f"reports/{source}"
+        assert any(path == o or path.startswith(o + "/") for o in committed), f"{path}: no stage commits it"
+        assert path in tracked, f"{path} is not in git: un-ignore it in .gitignore and commit it"
 
 
 def test_dvc_runs_offline():

@@ -8,7 +8,6 @@ from navlab.pipeline.reports import write_table
 from navlab.pipeline.results import (
     BEGIN,
     END,
-    FIGURES_DIR,
     PAPERS,
     claims_of,
     headline_block,
@@ -43,8 +42,8 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
     for readme, base in ((REPORTS / "README.md", REPORTS), (Path("README.md"), Path("."))):
         images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme.read_text(encoding="utf8"))
         assert images and all((base / image).is_file() for image in images), images
-    shown = [name for figures in shown_figures(REPORTS).values() for name, _ in figures]
-    assert all(f"{FIGURES_DIR}/{name}" in page for name in shown) and len(shown) >= len(PAPERS)
+    shown = [path for figures in shown_figures(REPORTS).values() for path, _ in figures]
+    assert all(f"]({path})" in page for path in shown) and len(shown) >= len(PAPERS)
 
 
 def test_claims_are_read_from_each_notes_form_and_from_typed_data():

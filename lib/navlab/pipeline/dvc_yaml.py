@@ -41,7 +41,7 @@ class Stage:
     cmd: str
     params: tuple[str, ...]
     inputs: tuple[str, ...] = ()      # data and artefacts the command reads (outputs of other stages)
-    outs: tuple[str, ...] = ()        # DVC-cached outputs
+    outs: tuple[str, ...] = ()        # DVC-cached outputs (but a figure the results page shows: committed_outs)
     persist: tuple[str, ...] = ()     # outs holding a resumable checkpoint: kept while the command runs
     metrics: tuple[str, ...] = ()     # report JSONs, committed to git (cache: false)
 
@@ -76,8 +76,8 @@ _CONTEXT_TRAIN = ("surenav.demos.context.node_features", "surenav.demos.context.
 _FIG = "reports/{}/figures/"
 _MARGINS = "artifacts/hj_margins"  # static-BRT margins (hj_margins), read by the stages that search
 _SWEEP = "artifacts/hj_sensitivity"  # issue 26's sensitivity points (hj_sweep), one JSON per point
-# The index's outputs, committed to git (cache: false): the results page and its figure copies, so GitHub shows them.
-INDEX_OUTS = ("reports/README.md", "reports/figures")
+# The index's output, committed to git (cache: false): the results page, so GitHub shows it.
+INDEX_OUTS = ("reports/README.md",)
 
 STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
@@ -176,12 +176,18 @@ PLOTS = (
 
 
 def all_stages() -> tuple[Stage, ...]:
-    """The registry plus the last stage, which indexes every report the others write and copies the
-    figures the results page shows (``navlab.pipeline.results.FIGURES``)."""
+    """The registry plus the last stage, which indexes every report the others write. It does not read the
+    figures the page shows: it links them where their stages commit them (``committed_outs``)."""
     metrics = tuple(m for s in STAGES for m in s.metrics)
-    figures = tuple(f"reports/{source}" for chosen in FIGURES.values() for source, _ in chosen)
-    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), (*metrics, *figures), outs=(),
-                           metrics=()))
+    return (*STAGES, Stage("reports_index", "python -m navlab reports index", (), metrics, outs=(), metrics=()))
+
+
+def committed_outs(stage: Stage) -> tuple[str, ...]:
+    """The outs of ``stage`` that hold a figure the results page shows (``navlab.pipeline.results.FIGURES``):
+    committed to git (cache: false) so that GitHub shows them and a fresh clone, which has no DVC cache, can
+    index its reports after re-running only some stages."""
+    shown = [f"reports/{source}" for chosen in FIGURES.values() for source, _ in chosen]
+    return tuple(o for o in stage.outs if any(f == o or f.startswith(o + "/") for f in shown))
 
 
 def stage_entry(stage: Stage, root: Path) -> dict[str, Any]:
@@ -191,7 +197,9 @@ def stage_entry(stage: Stage, root: Path) -> dict[str, Any]:
     entry: dict[str, Any] = {"cmd": stage.cmd, "deps": list(dict.fromkeys(deps))}
     if stage.params:
         entry["params"] = [{RESOLVED: ["profile", *stage.params]}]
-    outs = [{o: {"persist": True}} if o in stage.persist else o for o in stage.outs]
+    committed = committed_outs(stage)
+    outs = [{o: {"persist": True}} if o in stage.persist else {o: {"cache": False}} if o in committed else o
+            for o in stage.outs]
     if stage.name == "reports_index":
         outs += [{o: {"cache": False}} for o in INDEX_OUTS]
     if outs:
@@ -248,7 +256,7 @@ def stale_stages(root: str | Path) -> list[str]:
     """One line per stage whose dvc.lock entry no longer describes the tree.
 
     Counted (``dvc status``): a changed command, a changed params value, a code or notebook dep that changed
-    or vanished, and a committed report (``cache: false`` metric) that differs from the locked one. Not
+    or vanished, and a committed report or figure (``cache: false``) that differs from the locked one. Not
     counted: outputs absent from the cache, and deps that are other stages' outputs and are merely not
     built here (a fresh clone has no data/ or artifacts/). Because a fresh clone cannot hash those, the
     lock is also checked against itself (``lock_disagreements``): a stage whose recorded input is not the
@@ -261,7 +269,7 @@ def stale_stages(root: str | Path) -> list[str]:
         last = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else f"exit {run.returncode}"
         raise DvcStatusError(f"`dvc status` failed, so dvc.lock could not be checked: {last}")
     built = {o for s in all_stages() for o in (*s.outs,)}
-    committed = {m for s in all_stages() for m in s.metrics} | set(INDEX_OUTS)
+    committed = {m for s in all_stages() for m in (*s.metrics, *committed_outs(s))} | set(INDEX_OUTS)
     lines = []
     for name, changes in sorted(json.loads(run.stdout or "{}").items()):
         why = Why()

@@ -6,15 +6,15 @@ and the paper's number beside ours where it prints one; diagnostics (intervals a
 failure counts, timings) stay in each table's own ``.md``/JSON. Each paper gets one claims table (claim,
 paper's number, ours, verdict, why), read from a report's typed ``claims`` list when it has one, else
 from the claim sentences the table code writes into its notes (:func:`claims_of`). A few chosen figures
-per track are copied into ``reports/figures/`` (tracked in git, unlike the stages' own figure folders) so
-the page and README.md show them on GitHub.
+per track (``FIGURES``) are committed to git by the stages that draw them (``cache: false`` outputs,
+``navlab.pipeline.dvc_yaml``), so the page and README.md show them on GitHub and a fresh clone has them
+whichever stages it re-runs; the page links them where they lie.
 """
 
 from __future__ import annotations
 
 import os
 import re
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,7 +24,6 @@ from navlab.metrics.tables import Claim
 from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
 
 INDEX = "README.md"
-FIGURES_DIR = "figures"  # under reports/: the copies the page shows (the `reports_index` stage's output)
 BEGIN = "<!-- results: written by `python -m navlab reports index` from reports/; do not edit by hand -->"
 END = "<!-- /results -->"
 
@@ -46,8 +45,8 @@ PAPERS = {  # report folder -> the paper it reproduces, in the order the page sh
 BEFORE = {"hj": ("fig2_heuristic_values", "fig3_brt_growth")}  # Sec. VI's figures come before its Table I
 OTHER = "Pipeline check"  # report folders that reproduce no paper (the quickstart)
 
-# (source under reports/, caption): the first of each track is also the front door's figure. Each source
-# is a dep of the `reports_index` stage (navlab.pipeline.dvc_yaml), so a new figure re-runs the index.
+# (path under reports/, caption): the first of each track is also the front door's figure. The stage that
+# draws each commits it to git (navlab.pipeline.dvc_yaml.committed_outs).
 FIGURES: dict[str, tuple[tuple[str, str], ...]] = {
     "surenav": (("surenav/figures/fig5_behaviours.png",
                  "Fig. 5: each method's executed path on one semi-static episode per test tile"),
@@ -234,23 +233,10 @@ def _paper_order(track: str) -> list[str]:
     return [*BEFORE.get(track, ()), *TABLE_IDS.get(track, ())]
 
 
-def _copy_name(track: str, source: str) -> str:
-    return f"{track}_{Path(source).name}"
-
-
-def copy_figures(reports_dir: Path) -> None:
-    """Copy each chosen figure that exists into ``reports/figures/`` (one not built here keeps its copy)."""
-    for track, figures in FIGURES.items():
-        for source, _ in figures:
-            if (reports_dir / source).is_file():
-                (reports_dir / FIGURES_DIR).mkdir(exist_ok=True)
-                shutil.copyfile(reports_dir / source, reports_dir / FIGURES_DIR / _copy_name(track, source))
-
-
 def shown_figures(reports_dir: Path) -> dict[str, list[tuple[str, str]]]:
-    """{track: [(copy's name, caption)]} of the figure copies present: the page links no missing file."""
-    return {track: [(_copy_name(track, source), caption) for source, caption in figures
-                    if (reports_dir / FIGURES_DIR / _copy_name(track, source)).is_file()]
+    """{track: [(path under ``reports_dir``, caption)]} of the chosen figures present: the page links no
+    missing file."""
+    return {track: [(source, caption) for source, caption in figures if (reports_dir / source).is_file()]
             for track, figures in FIGURES.items()}
 
 
@@ -273,7 +259,7 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
         parts += [f"## {paper.name if paper else OTHER}", ""]
         if paper:
             parts += [f"[*{paper.title}*]({paper.link})", ""]
-        parts += [f"![{caption}]({FIGURES_DIR}/{name})\n\n*{caption}*\n" for name, caption in figures.get(track, [])]
+        parts += [f"![{caption}]({path})\n\n*{caption}*\n" for path, caption in figures.get(track, [])]
         claims: list[tuple[str, Claim]] = []
         for table_id, report in reports:
             parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
@@ -305,8 +291,8 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
             continue
         parts += [f"### {paper.name}", ""]
         if figures.get(track):
-            name, caption = figures[track][0]
-            parts += [f"![{caption}]({base}{FIGURES_DIR}/{name})", ""]
+            path, caption = figures[track][0]
+            parts += [f"![{caption}]({base}{path})", ""]
         parts += ["| table | row | column | ours [95% interval] | paper |", "|---|---|---|---|---|"]
         for table_id, key, cols in HEADLINE[track]:
             report = reports[table_id]
@@ -331,13 +317,12 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
 
 
 def write_index(reports_dir: str | Path, readme: str | Path | None = None) -> Path:
-    """Write ``reports/README.md`` and the figure copies; with ``readme``, also rewrite its results block
+    """Write ``reports/README.md``; with ``readme``, also rewrite its results block
     (between ``BEGIN`` and ``END``: the front door's numbers, which no one types by hand)."""
     reports_dir = Path(reports_dir)
     if not reports_dir.is_dir():
         raise DataError(f"{reports_dir}/ does not exist: no reports to index (--reports-dir names the folder "
                         "the notebooks wrote)")
-    copy_figures(reports_dir)
     tracks, figures = read_tracks(reports_dir), shown_figures(reports_dir)
     out = reports_dir / INDEX
     write_text(out, render_page(tracks, figures) + "\n")
