@@ -34,6 +34,8 @@ RUNS = {
                                 "--steps", "2",
                                 "--hold-out", "box_tree", "roughcast", "stone_wall", "grey_tile", "--eval-every", "1",
                                 "--data-dir", "{data}", "--artifacts-dir", "{artifacts}"],
+    "pacer_matcher_readouts.py": ["--profile", "smoke", "--maps", "1", "--threads", "1", "--data-dir", "{data}",
+                                  "--artifacts-dir", "{artifacts}", "--out", "{out}/readouts.json"],
     "playground_pacer.py": ["--profile", "smoke", "--maps", "1", "--data-dir", "{data}",
                             "--artifacts-dir", "{artifacts}"],
     "playground_surenav.py": ["--profile", "smoke", "--tiles", "1", "--data-dir", "{data}",
