@@ -60,13 +60,10 @@ COPELAND, MEAN_RANK, HARD = "model (Copeland places)", "model (mean-rank places)
 @torch.no_grad()
 def key_form_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> dict[str, torch.Tensor]:
     """{key form: (2n, H, W) patch scores} for one map; image (3, H, W), context (3n, 2p, p)."""
-    c, h = matcher.colour_channels, context.shape[1] // 2
-    n = context.shape[0] // c
-    patches = torch.cat([context[None, :, :h], context[None, :, h:]], dim=1).reshape(2 * n, c, h, -1)
-    features = matcher.embed(patches)  # (2n, d, p, p)
+    features = matcher.embed(matcher.patches(context[None]))  # (2n, d, p, p)
     centre = features.mean(dim=(2, 3)).mean(dim=0)
     pixels = matcher.unit(matcher.embed(image[None]), centre[None, :, None, None])[0].flatten(1)  # (d, H*W)
-    shape = (2 * n, *image.shape[1:])
+    shape = (features.shape[0], *image.shape[1:])
 
     def by_mean(f: torch.Tensor) -> torch.Tensor:
         return (matcher.unit(f.mean(dim=(2, 3)), centre) @ pixels).reshape(shape)

@@ -68,10 +68,10 @@ def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagno
     reasons = []
     if closed.get(LIMITED) is not None:
         reasons.append(f"a perfect context-follower with no prior (the context-limited oracle) closes {closed[LIMITED]:.2f} "
-                   "of this gap on the same maps")
+                       "of this gap on the same maps")
     if closed.get(true_terrains_name(model)) is not None:
         reasons.append(f"given every pixel's true terrain, {model}'s own order inference closes "
-                   f"{closed[true_terrains_name(model)]:.2f} (the difference is what its misrecognition costs)")
+                       f"{closed[true_terrains_name(model)]:.2f} (the difference is what its misrecognition costs)")
     why = "; ".join([*reasons, diagnosis] if diagnosis else reasons)
     return gap_closed(model, low[model], low[UNIFORM], low[ORACLE], *keys, why=why)
 
