@@ -36,6 +36,8 @@ RUNS = {
                                 "--data-dir", "{data}", "--artifacts-dir", "{artifacts}"],
     "pacer_matcher_readouts.py": ["--profile", "smoke", "--maps", "1", "--threads", "1", "--data-dir", "{data}",
                                   "--artifacts-dir", "{artifacts}", "--out", "{out}/readouts.json"],
+    "pacer_transductive_labels.py": ["--profile", "smoke", "--maps", "1", "--threads", "1", "--data-dir", "{data}",
+                                     "--artifacts-dir", "{artifacts}", "--out", "{out}/transductive.json"],
     "playground_pacer.py": ["--profile", "smoke", "--maps", "1", "--data-dir", "{data}",
                             "--artifacts-dir", "{artifacts}"],
     "playground_surenav.py": ["--profile", "smoke", "--tiles", "1", "--data-dir", "{data}",
