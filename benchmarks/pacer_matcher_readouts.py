@@ -141,8 +141,10 @@ def order_rule_rows(model, maps, bank, P, preference: str) -> dict[str, str]:
             for name in (COPELAND, MEAN_RANK, HARD)}
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def committed_matcher_run(parser: argparse.ArgumentParser):
+    """(arguments, params, terrain bank, committed phase-3 model) for a script that re-reads the committed matcher
+    on the tables' maps: adds the arguments such scripts share, and refuses a model whose matcher does not name
+    every pixel (these readings need one feature per pixel)."""
     parser.add_argument("--profile", default="default")
     parser.add_argument("--maps", type=int, default=None, help="maps per group (default: all the tables use)")
     parser.add_argument("--threads", type=int, default=2)
@@ -152,15 +154,20 @@ def main() -> None:
     run = parser.parse_args()
     torch.set_num_threads(run.threads)
     params = load_params(run.profile)
-    P = params.pacer
-    bank = load_terrain_bank(run.data_dir, P.data)
-    model = load_model(Path(run.artifacts_dir) / "pacer" / "phase3" / "model.pt", P.train.device).eval()
+    bank = load_terrain_bank(run.data_dir, params.pacer.data)
+    model = load_model(Path(run.artifacts_dir) / "pacer" / "phase3" / "model.pt", params.pacer.train.device).eval()
     if model.matcher is None:
         raise SystemExit(f"profile {run.profile!r} trains no texture matcher (pacer.model.match_channels is empty): "
                          "nothing to re-read; use a profile with one")
     if not model.matcher.dilated:
-        raise SystemExit("the key forms read one feature per pixel: they need a full-resolution matcher "
+        raise SystemExit("these readings take one matcher feature per pixel: they need a full-resolution matcher "
                          "(pacer.model.match_dilated: true)")
+    return run, params, bank, model
+
+
+def main() -> None:
+    run, params, bank, model = committed_matcher_run(argparse.ArgumentParser(description=__doc__.splitlines()[0]))
+    P = params.pacer
     results: dict = {"profile": run.profile, "recognition": {}, "gap_closed": {}}
     for group in ("seen", "unseen"):
         maps = aerial_maps(params, run.data_dir, group, bank)[:run.maps]

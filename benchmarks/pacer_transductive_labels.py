@@ -40,13 +40,11 @@ import torch
 from scipy import ndimage
 from scipy.special import log_softmax
 
-from navlab.core.params import load_params
 from navlab.pacer.aerial import AerialMap, aerial_maps
 from navlab.pacer.experiments import map_context
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.recognition import patch_cosines
-from navlab.pacer.terrain import load_terrain_bank
-from navlab.pacer.train import load_model
+from pacer_matcher_readouts import committed_matcher_run
 from pacer_texture_towers import near_boundary
 
 FORMS = ("colour", "matcher+colour")
@@ -136,23 +134,10 @@ def map_rates(matcher: TextureMatcher, amap: AerialMap, context: np.ndarray, pai
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--profile", default="default")
-    parser.add_argument("--maps", type=int, default=None, help="maps per group (default: all the tables use)")
     parser.add_argument("--betas", type=float, nargs="+", default=[0.25, 1.0])
     parser.add_argument("--erode", type=int, default=2, help="confident: one terrain within this many px")
-    parser.add_argument("--threads", type=int, default=2)
-    parser.add_argument("--data-dir", default="data")
-    parser.add_argument("--artifacts-dir", default="artifacts")
-    parser.add_argument("--out", default=None, help="write the results here as JSON")
-    run = parser.parse_args()
-    torch.set_num_threads(run.threads)
-    params = load_params(run.profile)
+    run, params, bank, model = committed_matcher_run(parser)
     P = params.pacer
-    bank = load_terrain_bank(run.data_dir, P.data)
-    model = load_model(Path(run.artifacts_dir) / "pacer" / "phase3" / "model.pt", P.train.device).eval()
-    if model.matcher is None or not model.matcher.dilated:
-        raise SystemExit(f"profile {run.profile!r}: the refinement reads one matcher feature per pixel, so it needs a "
-                         "full-resolution texture matcher (pacer.model.match_channels and match_dilated)")
     results: dict = {"profile": run.profile, "erode": run.erode, "recognition (all, near another terrain)": {}}
     for group in ("seen", "unseen"):
         per_map = []
