@@ -23,7 +23,7 @@ alone). Feature forms:
 Prints, per map group, the share of named pixels right (all, and within ``INTERIOR_PX`` of another terrain, as
 ``pacer_texture_towers.near_boundary`` counts them) for the matcher's nearest patch (``pacer.recognition``'s rate,
 reproduced) and each form and beta. Needs ``data/`` and ``artifacts/pacer/phase3`` (`dvc repro pacer_phase3`);
-~12 min at `default` on the 2-core machine.
+~9 min at `default` on the 2-core machine.
 
     .venv/bin/python benchmarks/pacer_transductive_labels.py [--maps 20] [--out benchmarks/results/pacer_transductive_labels.json]
 """
