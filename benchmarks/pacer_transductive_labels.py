@@ -81,7 +81,7 @@ def gaussian_log_posterior(features: np.ndarray, named: np.ndarray, confident: n
     if len(samples) < 2:
         return log_post
     eye = 1e-4 * np.eye(features.shape[-1])
-    pooled = np.cov(np.concatenate([x - x.mean(0) for x in samples.values()]).T) + eye
+    pooled = np.cov(np.concatenate([x - x.mean(0) for x in samples.values()]).T) + eye if shared else None
     counts = np.array([len(x) for x in samples.values()], dtype=float)
     for (i, x), prior in zip(samples.items(), np.log(counts / counts.sum()), strict=True):
         cov = pooled if shared else np.cov(x.T) + eye
