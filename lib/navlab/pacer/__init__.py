@@ -3,7 +3,7 @@
 Data half (one concept per module; everything seeded from params.yaml ``pacer``):
 
 * ``terrain``: ``load_terrain_bank(data_dir, params.pacer.data) -> TerrainBank`` (seen / unseen /
-  synthetic terrain classes from the photographs in data/raw/terrain; ids, realistic ranks, tiers).
+  synthetic terrain classes from the photographs in data/raw/terrain or terrain_photos/; ids, realistic ranks).
 * ``layouts``: procedural label layouts (warped Voronoi regions, trails) for BEV images and aerial maps.
 * ``bev``: ``render_bev`` (texture fill, lighting, shadows, ground-plane homography, FOV trapezoid),
   ``render_aerial``, ``fov_mask``.

@@ -20,7 +20,7 @@ from navlab.pacer.baselines.semantic_classifier import save_classifier, train_cl
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import STREET_SPLIT, pacer_dataset
 from navlab.pacer.map_windows import map_windows
-from navlab.pacer.terrain import load_terrain_bank
+from navlab.pacer.terrain import load_terrain_bank, photos_fingerprint
 from navlab.pacer.train import PHASE_DATASETS, PHASES, PhaseRun, Selection, resolve_device, train_phase
 
 
@@ -40,12 +40,12 @@ def selection_windows(params: Params, data_dir: Path, bank) -> list:
 
 def phase_inputs(params: Params, data_dir: Path) -> dict:
     """What a phase's checkpoint keys on besides code, model and train parameters (``train.run_key``): the
-    terrain files, the street maps of the splits training items are cut from (train, val; never test), and
+    terrain photographs (names and content, packaged and of your own), the street maps of the splits training items are cut from (train, val; never test), and
     every ``pacer.data`` parameter (layouts, street windows, photometrics, context draws). The phases'
     outputs persist so that a killed training resumes; without these, a data-only change would make DVC
     re-run a phase that then resumed its finished checkpoint and returned the old weights."""
     data = params.pacer.data
-    return {"terrain": files_fingerprint(require(data_dir, "raw", "terrain")),
+    return {"terrain": photos_fingerprint(data_dir, data),
             "street_maps": ({split: files_fingerprint(require(data_dir, *MAPS_FOLDER, split))
                              for split in sorted(set(STREET_SPLIT.values()))}
                             if data.layout.street_windows > 0 else None),

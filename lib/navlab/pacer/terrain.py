@@ -18,11 +18,16 @@ Terrain ids are positions in :attr:`TerrainBank.terrains`: seen classes first (p
 unseen, then synthetic. Every photograph is cut along its width into an *image part* (left) that feeds
 BEV images and a *context part* (the right ``context_fraction``) that feeds preference-context patches,
 so a context patch never repeats a crop of the image it comes with.
+
+Photographs of your own (terrains the repository never saw) go in the checkout's ``terrain_photos/``
+folder and are listed in params.yaml as ``terrain_photos/<file>`` (README, "PACER on terrains of your
+own"): ``data build`` replaces data/ whole, so they cannot live there.
 """
 
 from __future__ import annotations
 
-import functools
+import hashlib
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -30,13 +35,16 @@ from typing import Literal
 import cv2
 import numpy as np
 
+from navlab.core.fingerprint import source_fingerprint
 from navlab.core.io import DataError, require
-from navlab.core.params import ParamsError
+from navlab.core.params import ParamsError, repo_root
 from navlab.core.params.pacer import PacerDataParams
 
 Group = Literal["seen", "unseen", "synthetic"]
 GROUPS: tuple[Group, ...] = ("seen", "unseen", "synthetic")
 PYRAMID_LEVELS = 3  # texture copies at 1, 1/2, 1/4 resolution, so minified fills do not alias
+OWN_PHOTOS = "terrain_photos"  # the checkout's folder of photographs of your own (a dep of every PACER stage)
+_DECODED: dict[str, np.ndarray] = {}  # sha256 of a photograph's bytes -> its read-only pixels (_read_photo)
 
 
 @dataclass(frozen=True)
@@ -44,7 +52,7 @@ class Terrain:
     id: int
     name: str
     group: Group
-    sources: tuple[str, ...]  # photographs, relative to <data_dir>/raw/terrain
+    sources: tuple[str, ...]  # photographs: under <data_dir>/raw/terrain, or terrain_photos/... (photo_path)
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,23 +98,47 @@ def pyramid_level(scale: float) -> int:
 
 
 def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainBank:
-    """The bank for ``params`` (``params.pacer.data``) from ``<data_dir>/raw/terrain``."""
+    """The bank for ``params`` (``params.pacer.data``), its photographs found by :func:`photo_path`."""
     _check_split(params)
     _check_ranges(params)
-    root = require(data_dir, "raw", "terrain")
+    require(data_dir, "raw", "terrain")
     terrains, image_parts, context_parts = [], [], []
     for group in GROUPS:
         for name, sources in getattr(params, group).items():
             if not sources:
                 raise ParamsError(f"pacer.data.{group}.{name}: no photographs; list at least one")
             terrains.append(Terrain(len(terrains), name, group, tuple(sources)))
-            parts = [_split_photo(root / src, params.context_fraction) for src in sources]
+            parts = [_split_photo(_existing_photo(data_dir, f"pacer.data.{group}.{name}", src), params)
+                     for src in sources]
             image_parts.append(tuple(p[0] for p in parts))
             context_parts.append(tuple(p[1] for p in parts))
     index = {t.name: t.id for t in terrains}
     rank = np.full(len(terrains), -1, dtype=np.int64)
     rank[[index[n] for n in params.realistic_ordering]] = np.arange(len(params.realistic_ordering))
     return TerrainBank(tuple(terrains), tuple(image_parts), tuple(context_parts), rank)
+
+
+def photo_path(data_dir: str | Path, source: str) -> Path:
+    """Where the photograph ``source`` (an entry of a ``pacer.data`` class list) lives: in the checkout's
+    ``terrain_photos/`` when it begins with that folder (photographs of your own, kept by git), else under
+    ``<data_dir>/raw/terrain`` (the packages' photographs, which ``data build`` writes)."""
+    if Path(source).parts[:1] == (OWN_PHOTOS,):
+        return repo_root() / source
+    return Path(data_dir, "raw", "terrain", source)
+
+
+def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
+    """sha256 over (source, content) of every photograph the bank reads: what a trained model keys on, so a
+    photograph replaced under the same name retrains what learned from it."""
+    sources = {src for group in GROUPS for srcs in getattr(params, group).values() for src in srcs}
+    return source_fingerprint((src, photo_path(data_dir, src)) for src in sources)
+
+
+def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
+    path = photo_path(data_dir, source)
+    if not path.is_file() and Path(source).parts[:1] == (OWN_PHOTOS,):
+        raise DataError(f"{key}: {path} does not exist; put the photograph there or correct {key} in params.yaml")
+    return path
 
 
 def _check_split(params: PacerDataParams) -> None:
@@ -141,29 +173,45 @@ def _check_ranges(params: PacerDataParams) -> None:
         raise ParamsError("pacer.data.synthetic: no classes; D_synthetic needs at least one synthetic terrain")
 
 
-def _split_photo(path: Path, context_fraction: float) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+def _split_photo(path: Path, params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+    """(image part, context part) pyramids of one photograph; refused when its context strip cannot hold one
+    context patch (a smaller crop would be stretched to the patch, a blur no other terrain shows)."""
     photo = _read_photo(str(path))
-    cut = photo.shape[1] - max(1, round(photo.shape[1] * context_fraction))
+    height, width = photo.shape[:2]
+    least = math.ceil(params.patch_size / params.context_fraction)
+    if height < params.patch_size or width < least:
+        raise DataError(f"{path}: {width} x {height} px is too small for this profile (its context strip, the right "
+                        f"{params.context_fraction:g} of the width, must hold a {params.patch_size}-px patch): use a "
+                        f"photograph at least {least} px wide and {params.patch_size} px high")
+    cut = width - max(1, round(width * params.context_fraction))
     return _pyramid(photo[:, :cut]), _pyramid(photo[:, cut:])
 
 
-@functools.cache
 def _read_photo(path: str) -> np.ndarray:
-    """float32 RGB in [0, 1]; grayscale photographs are repeated over the three channels."""
+    """float32 RGB in [0, 1]; grayscale photographs are repeated over the three channels. Decoded once per
+    content (a photograph replaced in a running kernel is read anew)."""
     if not Path(path).is_file():
         raise DataError(f"{path} is missing: build the dataset with `python -m navlab data build`")
-    bgr = cv2.imread(path, cv2.IMREAD_COLOR) if _complete_image(Path(path)) else None
+    data = Path(path).read_bytes()
+    key = hashlib.sha256(data).hexdigest()
+    if key not in _DECODED:
+        _DECODED[key] = _decode(path, data)
+    return _DECODED[key]
+
+
+def _decode(path: str, data: bytes) -> np.ndarray:
+    bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if _complete_image(data) else None
     if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
-        raise DataError(f"{path}: not a readable image; rebuild the dataset with `python -m navlab data build --force`")
+        raise DataError(f"{path}: not a readable image (truncated, or not PNG/JPEG); replace it (a packaged "
+                        "photograph: `python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
 
 
-def _complete_image(path: Path) -> bool:
+def _complete_image(data: bytes) -> bool:
     """Whether a JPEG ends with its end-of-image marker and a PNG with its IEND chunk (not truncated);
     the format is read from the file's magic bytes, not its name."""
-    data = path.read_bytes()
     if data[:2] == b"\xff\xd8":
         return data.rstrip(b"\0").endswith(b"\xff\xd9")
     if data[:8] == b"\x89PNG\r\n\x1a\n":

@@ -67,6 +67,7 @@ _SURENAV_RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.
 _HJ_SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _HJ_LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
 _PACER_NB = ("pacer",)
+_PHOTOS = "terrain_photos"  # photographs of your own (navlab.pacer.terrain.OWN_PHOTOS): every stage that reads the bank
 _GPS = ("artifacts/surenav/gps", "artifacts/surenav/mpnn")
 _CONTEXT_DEMOS = "artifacts/surenav/context_demos"  # issue 25's context benchmark (navlab.surenav.context)
 _CONTEXT_GPS = ("artifacts/surenav/context_estimators",)
@@ -83,24 +84,24 @@ STAGES: tuple[Stage, ...] = (
     Stage("data", "python -m navlab data build", ("data", "surenav.graph"), outs=("data",), persist=("data",)),
     _notebook("quickstart", "notebooks/00_quickstart.ipynb", ("seed", "quickstart"), ("data",),
               ("reports/quickstart/figures",), ("reports/quickstart/quickstart_astar.json",)),
-    _artifact("pacer_phase1", (*_PACER_TRAIN, "pacer.train.epochs.phase1"), ("data",), ("artifacts/pacer/phase1",),
+    _artifact("pacer_phase1", (*_PACER_TRAIN, "pacer.train.epochs.phase1"), ("data", _PHOTOS), ("artifacts/pacer/phase1",),
               persist=True),
-    _artifact("pacer_phase2", (*_PACER_TRAIN, "pacer.train.epochs.phase2"), ("data", "artifacts/pacer/phase1"),
+    _artifact("pacer_phase2", (*_PACER_TRAIN, "pacer.train.epochs.phase2"), ("data", _PHOTOS, "artifacts/pacer/phase1"),
               ("artifacts/pacer/phase2",), persist=True),
-    _artifact("pacer_phase3", (*_PACER_TRAIN, "pacer.train.epochs.phase3"), ("data", "artifacts/pacer/phase2"),
+    _artifact("pacer_phase3", (*_PACER_TRAIN, "pacer.train.epochs.phase3"), ("data", _PHOTOS, "artifacts/pacer/phase2"),
               ("artifacts/pacer/phase3",), persist=True),
     _artifact("pacer_sterling", ("pacer.seed", "pacer.data", "pacer.train.device", "pacer.baselines.patch_size",
-                                 "pacer.baselines.sterling"), ("data",), ("artifacts/pacer/sterling",)),
+                                 "pacer.baselines.sterling"), ("data", _PHOTOS), ("artifacts/pacer/sterling",)),
     _artifact("pacer_classifier", ("pacer.seed", "pacer.data", "pacer.train.device", "pacer.baselines.patch_size",
-                                   "pacer.baselines.classifier"), ("data",), ("artifacts/pacer/classifier",)),
-    _notebook("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _PACER_NB, ("data", "artifacts/pacer/phase3"),
-              (_FIG.format("pacer") + "01_costmaps",)),
+                                   "pacer.baselines.classifier"), ("data", _PHOTOS), ("artifacts/pacer/classifier",)),
+    _notebook("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _PACER_NB,
+              ("data", _PHOTOS, "artifacts/pacer/phase3"), (_FIG.format("pacer") + "01_costmaps",)),
     _notebook("pacer_02_navigation", "notebooks/pacer/02_navigation.ipynb", _PACER_NB,
-              ("data", "artifacts/pacer/phase3", "artifacts/pacer/sterling", "artifacts/pacer/classifier"),
+              ("data", _PHOTOS, "artifacts/pacer/phase3", "artifacts/pacer/sterling", "artifacts/pacer/classifier"),
               (_FIG.format("pacer") + "02_navigation",),
               ("reports/pacer/table1_seen.json", "reports/pacer/table2_unseen.json")),
     _notebook("pacer_03_phase_ablation", "notebooks/pacer/03_phase_ablation.ipynb", _PACER_NB,
-              ("data", "artifacts/pacer/phase1", "artifacts/pacer/phase2", "artifacts/pacer/phase3"),
+              ("data", _PHOTOS, "artifacts/pacer/phase1", "artifacts/pacer/phase2", "artifacts/pacer/phase3"),
               (_FIG.format("pacer") + "03_phase_ablation",),
               ("reports/pacer/table3_phases_seen.json", "reports/pacer/table4_phases_unseen.json",
                "reports/pacer/table5_margin_ranking.json", "reports/pacer/context_following.json")),

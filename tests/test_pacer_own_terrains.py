@@ -1,0 +1,106 @@
+"""PACER on photographs of your own (README, "PACER on terrains of your own"): terrains this repository has
+never seen, put in the checkout's terrain_photos/ and listed in params.yaml, run through the bank, the
+fingerprint trained models key on, the aerial maps and the navigation tables."""
+
+from __future__ import annotations
+
+import shutil
+
+import cv2
+import numpy as np
+import pytest
+
+from navlab.core.io import DataError
+from navlab.core.params import repo_root
+from navlab.pacer.aerial import aerial_maps
+from navlab.pacer.artifacts import phase_inputs
+from navlab.pacer.experiments import navigation_rows, pacer_method, uniform_method, window_oracle_method
+from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photos_fingerprint
+from navlab.pacer.train import load_model
+from pacer_support import with_pacer_data
+
+NAMES = ("planks", "cobbles", "moss", "tarmac")
+
+
+def _rgb(path) -> np.ndarray:
+    """float32 RGB in [0, 1] as the bank reads a photograph."""
+    return cv2.cvtColor(cv2.imread(str(path)), cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
+
+
+def _texture(kind: int, size: int, seed: int) -> np.ndarray:
+    """uint8 (size, size, 3) BGR: a seeded procedural surface no package ships (stripes, cells, blotches,
+    speckle), each in its own colour."""
+    gen = np.random.default_rng(seed)
+    y, x = np.mgrid[:size, :size].astype(np.float32)
+    noise = gen.normal(size=(size, size)).astype(np.float32)
+    base = [np.sin(x / 3.0) + 0.3 * noise,
+            ((x // 12 + y // 12) % 2) + 0.2 * noise,
+            cv2.GaussianBlur(noise, (0, 0), 6) * 4,
+            0.5 * noise][kind]
+    shade = (base - base.min()) / (np.ptp(base) + 1e-6)
+    colour = np.array([[40, 90, 160], [120, 120, 130], [60, 150, 70], [50, 50, 55]][kind], dtype=np.float32)
+    return np.clip(shade[..., None] * colour * 1.5 + 20, 0, 255).astype(np.uint8)
+
+
+@pytest.fixture
+def own_params(tmp_path, monkeypatch, smoke_params):
+    """The smoke profile with its unseen group replaced by four generated photographs in a checkout's
+    terrain_photos/ (a copy of params.yaml marks tmp_path as the checkout)."""
+    shutil.copy(repo_root() / "params.yaml", tmp_path / "params.yaml")
+    (tmp_path / OWN_PHOTOS).mkdir()
+    for k, name in enumerate(NAMES):
+        cv2.imwrite(str(tmp_path / OWN_PHOTOS / f"{name}.png"), _texture(k, 96 + 32 * k, k))
+    monkeypatch.chdir(tmp_path)
+    data = smoke_params.pacer.data
+    ordering = (NAMES[3], NAMES[1], *[n for n in data.realistic_ordering if n in data.seen], NAMES[0], NAMES[2])
+    return with_pacer_data(smoke_params, unseen={n: (f"{OWN_PHOTOS}/{n}.png",) for n in NAMES},
+                           realistic_ordering=ordering)
+
+
+def test_own_photographs_form_the_unseen_group(own_params, smoke_data, tmp_path):
+    bank = load_terrain_bank(smoke_data, own_params.pacer.data)
+    unseen = bank.ids("unseen")
+    assert [bank.names[t] for t in unseen] == list(NAMES)
+    assert bank.realistic_rank[bank.id_of("tarmac")] == 0  # the ordering params gives, new classes included
+    photo = _rgb(tmp_path / OWN_PHOTOS / "moss.png")
+    image, context = bank.image_parts[bank.id_of("moss")][0][0], bank.context_parts[bank.id_of("moss")][0][0]
+    assert np.array_equal(np.concatenate([image, context], axis=1), photo)
+    for amap in aerial_maps(own_params, smoke_data, "unseen", bank):
+        assert set(amap.terrains.tolist()) <= set(unseen.tolist())
+
+
+def test_navigation_tables_run_on_own_terrains(own_params, smoke_data, smoke_artifacts):
+    """Table II's protocol on maps painted only with the new terrains: the smoke PACER model, chance and the
+    window oracle each get a row whose tier shares are a distribution per map."""
+    P = own_params.pacer
+    bank = load_terrain_bank(smoke_data, P.data)
+    maps = aerial_maps(own_params, smoke_data, "unseen", bank)
+    methods = {"PACER": (pacer_method(load_model(smoke_artifacts / "pacer" / "phase3" / "model.pt"), P.data), True),
+               "uniform": (uniform_method(), True), "window oracle": (window_oracle_method(P.data), True)}
+    result = navigation_rows(maps, methods, bank, P.data, "realistic", P.evaluation.cost_scale, P.seed)
+    for name, shares in result.shares.items():
+        assert shares.shape == (len(maps), 3) and np.allclose(shares.sum(axis=1), 1.0), name
+
+
+def test_a_replaced_photograph_changes_what_models_key_on(own_params, smoke_data, tmp_path):
+    data = own_params.pacer.data
+    before, inputs = photos_fingerprint(smoke_data, data), phase_inputs(own_params, smoke_data)["terrain"]
+    assert inputs == before
+    cv2.imwrite(str(tmp_path / OWN_PHOTOS / "unlisted.png"), _texture(0, 64, 9))  # not in params: not read
+    assert photos_fingerprint(smoke_data, data) == before
+    path = tmp_path / OWN_PHOTOS / "planks.png"
+    cv2.imwrite(str(path), _texture(0, 96, 7))  # same name, new content
+    assert photos_fingerprint(smoke_data, data) != before
+    bank = load_terrain_bank(smoke_data, data)
+    assert np.array_equal(bank.image_parts[bank.id_of("planks")][0][0][:, :4], _rgb(path)[:, :4])  # read anew
+
+
+def test_missing_or_too_small_own_photographs_are_named(own_params, smoke_data, tmp_path):
+    data = own_params.pacer.data
+    (tmp_path / OWN_PHOTOS / "moss.png").unlink()
+    with pytest.raises(DataError, match=r"pacer.data.unseen.moss: .*terrain_photos/moss.png does not exist; put "):
+        load_terrain_bank(smoke_data, data)
+    least = int(np.ceil(data.patch_size / data.context_fraction))
+    cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least - 1, 2))
+    with pytest.raises(DataError, match=rf"moss.png: {least - 1} x {least - 1} px is too small .* at least {least} px"):
+        load_terrain_bank(smoke_data, data)
