@@ -40,10 +40,11 @@ def selection_windows(params: Params, data_dir: Path, bank) -> list:
 
 def phase_inputs(params: Params, data_dir: Path) -> dict:
     """What a phase's checkpoint keys on besides code, model and train parameters (``train.run_key``): the
-    terrain photographs (names and content, packaged and of your own), the street maps of the splits training items are cut from (train, val; never test), and
-    every ``pacer.data`` parameter (layouts, street windows, photometrics, context draws). The phases'
-    outputs persist so that a killed training resumes; without these, a data-only change would make DVC
-    re-run a phase that then resumed its finished checkpoint and returned the old weights."""
+    terrain photographs (names and content, packaged and of your own), the street maps of the splits training
+    items are cut from (train, val; never test), and every ``pacer.data`` parameter (layouts, street windows,
+    photometrics, context draws). The phases' outputs persist so that a killed training resumes; without these,
+    a data-only change would make DVC re-run a phase that then resumed its finished checkpoint and returned the
+    old weights."""
     data = params.pacer.data
     return {"terrain": photos_fingerprint(data_dir, data),
             "street_maps": ({split: files_fingerprint(require(data_dir, *MAPS_FOLDER, split))

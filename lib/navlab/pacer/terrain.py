@@ -202,7 +202,7 @@ def _read_photo(path: str) -> np.ndarray:
 def _decode(path: str, data: bytes) -> np.ndarray:
     bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if _complete_image(data) else None
     if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
-        raise DataError(f"{path}: not a readable image (truncated, or not PNG/JPEG); replace it (a packaged "
+        raise DataError(f"{path}: not a readable image (truncated, or a format OpenCV cannot read); replace it (a packaged "
                         "photograph: `python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
