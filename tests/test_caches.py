@@ -148,11 +148,14 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
     from navlab.pacer.train import run_key
 
     data = tmp_path / "data"
-    for path, text in (("raw/terrain/grass/a.jpg", "g"), ("surenav/maps/train/m0.npz", "m"),
-                       ("surenav/maps/val/m1.npz", "v"), ("surenav/maps/test/m2.npz", "t")):
+    base = load_params("default")
+    listed = [src for group in ("seen", "unseen", "synthetic")
+              for srcs in getattr(base.pacer.data, group).values() for src in srcs]
+    for path, text in (*((f"raw/terrain/{src}", src) for src in listed), ("raw/terrain/unlisted.png", "u"),
+                       ("surenav/maps/train/m0.npz", "m"), ("surenav/maps/val/m1.npz", "v"),
+                       ("surenav/maps/test/m2.npz", "t")):
         (data / path).parent.mkdir(parents=True, exist_ok=True)
         (data / path).write_text(text)
-    base = load_params("default")
     streets = base.pacer.data.layout.street_windows
     assert streets > 0
 
@@ -179,7 +182,9 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
     before = key(no_streets)
     (data / "surenav/maps/train/m0.npz").write_text("edited again")
     assert key(no_streets) == before  # without street windows the maps are not read
-    (data / "raw/terrain/grass/a.jpg").write_text("another photograph")
+    (data / "raw/terrain/unlisted.png").write_text("a photograph no class lists")
+    assert key(no_streets) == before
+    (data / "raw/terrain" / listed[0]).write_text("another photograph under the same name")
     assert key(no_streets) != before
 
 

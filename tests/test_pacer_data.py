@@ -162,10 +162,14 @@ def test_context_patches_come_from_the_real_bank(bank, smoke_params):
     assert set(pairs.ravel().tolist()) <= set(ordering.tolist())
 
 
+ENCODED_WIDTH = 192
+
+
 def _encoded_data_dir(tmp_path, params):
-    """A data dir whose every photograph stores its column index in the red channel (4 per column)."""
-    columns = np.arange(64, dtype=np.uint8) * 4
-    photo = np.zeros((64, 64, 3), np.uint8)
+    """A data dir whose every photograph (192 px wide, the least the bank takes) stores its column index in the
+    red channel."""
+    columns = np.arange(ENCODED_WIDTH, dtype=np.uint8)
+    photo = np.zeros((64, ENCODED_WIDTH, 3), np.uint8)
     photo[:, :, 2] = columns[None, :]  # OpenCV writes BGR: channel 2 is red
     photo[:, :, 1] = 128
     for group in ("seen", "unseen", "synthetic"):
@@ -184,14 +188,14 @@ def test_context_patches_never_come_from_the_pixels_images_are_drawn_from(tmp_pa
         data.photometric, brightness=0.0, gradient=0.0, shadows=0, noise_std=0.0),
         recolour=dataclasses.replace(data.recolour, probability=0.0))
     bank = load_terrain_bank(_encoded_data_dir(tmp_path, smoke_params), flat)
-    cut = 64 - round(64 * data.context_fraction)  # first context column
+    cut = ENCODED_WIDTH - round(ENCODED_WIDTH * data.context_fraction)  # first context column
     for name in ("real", "synthetic"):
         recipe = Recipe(name, name, "seen", "realistic" if name == "real" else "random", synthetic=name == "synthetic")
         dataset = PacerDataset(bank, flat, recipe, "train", 8, seed=0)
         for item in _items(dataset, 8):
             red_image = item["image"][0][item["fov_mask"]]
-            assert red_image.max() <= (cut - 1) * 4 / 255 + 1e-6  # image pixels: image-part columns only
-            assert item["context"][0::3].min() >= cut * 4 / 255 - 1e-6  # context: context-part columns only
+            assert red_image.max() <= (cut - 1) / 255 + 1e-6  # image pixels: image-part columns only
+            assert item["context"][0::3].min() >= cut / 255 - 1e-6  # context: context-part columns only
 
 
 # --- rendering: field of view, determinism ------------------------------------------------------------

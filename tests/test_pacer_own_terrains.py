@@ -49,8 +49,9 @@ def own_params(tmp_path, monkeypatch, smoke_params):
     shutil.copy(repo_root() / "params.yaml", tmp_path / "params.yaml")
     (tmp_path / OWN_PHOTOS).mkdir()
     for k, name in enumerate(NAMES):
-        cv2.imwrite(str(tmp_path / OWN_PHOTOS / f"{name}.png"), _texture(k, 96 + 32 * k, k))
-    monkeypatch.chdir(tmp_path)
+        cv2.imwrite(str(tmp_path / OWN_PHOTOS / f"{name}.png"), _texture(k, 192 + 32 * k, k))
+    (tmp_path / "notebooks" / "pacer").mkdir(parents=True)
+    monkeypatch.chdir(tmp_path / "notebooks" / "pacer")  # as papermill runs a notebook: the checkout is above
     data = smoke_params.pacer.data
     ordering = (NAMES[3], NAMES[1], *[n for n in data.realistic_ordering if n in data.seen], NAMES[0], NAMES[2])
     return with_pacer_data(smoke_params, unseen={n: (f"{OWN_PHOTOS}/{n}.png",) for n in NAMES},
@@ -60,7 +61,7 @@ def own_params(tmp_path, monkeypatch, smoke_params):
 def test_own_photographs_form_the_unseen_group(own_params, smoke_data, tmp_path):
     bank = load_terrain_bank(smoke_data, own_params.pacer.data)
     unseen = bank.ids("unseen")
-    assert [bank.names[t] for t in unseen] == list(NAMES)
+    assert bank_names(bank, "unseen") == list(NAMES)
     assert bank.realistic_rank[bank.id_of("tarmac")] == 0  # the ordering params gives, new classes included
     photo = _rgb(tmp_path / OWN_PHOTOS / "moss.png")
     image, context = bank.image_parts[bank.id_of("moss")][0][0], bank.context_parts[bank.id_of("moss")][0][0]
@@ -86,21 +87,44 @@ def test_a_replaced_photograph_changes_what_models_key_on(own_params, smoke_data
     data = own_params.pacer.data
     before, inputs = photos_fingerprint(smoke_data, data), phase_inputs(own_params, smoke_data)["terrain"]
     assert inputs == before
-    cv2.imwrite(str(tmp_path / OWN_PHOTOS / "unlisted.png"), _texture(0, 64, 9))  # not in params: not read
+    old = load_terrain_bank(smoke_data, data)
+    cv2.imwrite(str(tmp_path / OWN_PHOTOS / "unlisted.png"), _texture(0, 192, 9))  # not in params: not read
     assert photos_fingerprint(smoke_data, data) == before
     path = tmp_path / OWN_PHOTOS / "planks.png"
-    cv2.imwrite(str(path), _texture(0, 96, 7))  # same name, new content
+    cv2.imwrite(str(path), _texture(0, 192, 7))  # same name, new content
     assert photos_fingerprint(smoke_data, data) != before
-    bank = load_terrain_bank(smoke_data, data)
-    assert np.array_equal(bank.image_parts[bank.id_of("planks")][0][0][:, :4], _rgb(path)[:, :4])  # read anew
+    new = load_terrain_bank(smoke_data, data)
+    planks = new.id_of("planks")
+    assert not np.array_equal(new.image_parts[planks][0][0], old.image_parts[planks][0][0])  # read anew
+    assert np.array_equal(new.image_parts[planks][0][0][:, :4], _rgb(path)[:, :4])
 
 
-def test_missing_or_too_small_own_photographs_are_named(own_params, smoke_data, tmp_path):
+def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_data, tmp_path):
     data = own_params.pacer.data
     (tmp_path / OWN_PHOTOS / "moss.png").unlink()
-    with pytest.raises(DataError, match=r"pacer.data.unseen.moss: .*terrain_photos/moss.png does not exist; put "):
+    with pytest.raises(DataError, match=r"pacer.data.unseen.moss: .*moss.png does not exist; put the photograph"):
         load_terrain_bank(smoke_data, data)
-    least = int(np.ceil(data.patch_size / data.context_fraction))
+    typo = with_pacer_data(own_params, unseen={**data.unseen, "moss": ("moss.png",)}).pacer.data
+    with pytest.raises(DataError, match=r"pacer.data.unseen.moss: 'moss.png' is not a packaged photograph .* as "
+                                        r"terrain_photos/<file>"):
+        load_terrain_bank(smoke_data, typo)
+    strip = int(np.ceil(data.patch_size * data.footprint_texels[1] / data.image_size))
+    least = int(np.ceil(strip / data.context_fraction))
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least - 1, 2))
     with pytest.raises(DataError, match=rf"moss.png: {least - 1} x {least - 1} px is too small .* at least {least} px"):
         load_terrain_bank(smoke_data, data)
+    cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
+    assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
+
+
+def bank_names(bank, group: str) -> list[str]:
+    return [bank.names[t] for t in bank.ids(group)]
+
+
+def test_every_stage_that_reads_the_bank_depends_on_the_photographs_folder():
+    from navlab.pipeline.dvc_yaml import STAGES
+
+    readers = [s for s in STAGES if s.name.startswith("pacer_")]
+    assert len(readers) == 8
+    assert all(OWN_PHOTOS in s.inputs for s in readers)
+    assert all(OWN_PHOTOS not in s.inputs for s in STAGES if not s.name.startswith("pacer_"))

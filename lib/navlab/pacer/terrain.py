@@ -122,9 +122,7 @@ def photo_path(data_dir: str | Path, source: str) -> Path:
     """Where the photograph ``source`` (an entry of a ``pacer.data`` class list) lives: in the checkout's
     ``terrain_photos/`` when it begins with that folder (photographs of your own, kept by git), else under
     ``<data_dir>/raw/terrain`` (the packages' photographs, which ``data build`` writes)."""
-    if Path(source).parts[:1] == (OWN_PHOTOS,):
-        return repo_root() / source
-    return Path(data_dir, "raw", "terrain", source)
+    return repo_root() / source if _is_own(source) else Path(data_dir, "raw", "terrain", source)
 
 
 def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
@@ -134,11 +132,20 @@ def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
     return source_fingerprint((src, photo_path(data_dir, src)) for src in sources)
 
 
+def _is_own(source: str) -> bool:
+    return Path(source).parts[:1] == (OWN_PHOTOS,)
+
+
 def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
+    """The photograph's path, or a DataError naming the params key (a typo in params.yaml is likelier than a
+    half-built data/, which ``data check`` would already refuse)."""
     path = photo_path(data_dir, source)
-    if not path.is_file() and Path(source).parts[:1] == (OWN_PHOTOS,):
+    if path.is_file():
+        return path
+    if _is_own(source):
         raise DataError(f"{key}: {path} does not exist; put the photograph there or correct {key} in params.yaml")
-    return path
+    raise DataError(f"{key}: {source!r} is not a packaged photograph ({path} does not exist); list a photograph of "
+                    f"your own as {OWN_PHOTOS}/<file>, or rebuild data/ with `python -m navlab data build --force`")
 
 
 def _check_split(params: PacerDataParams) -> None:
@@ -174,15 +181,17 @@ def _check_ranges(params: PacerDataParams) -> None:
 
 
 def _split_photo(path: Path, params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
-    """(image part, context part) pyramids of one photograph; refused when its context strip cannot hold one
-    context patch (a smaller crop would be stretched to the patch, a blur no other terrain shows)."""
+    """(image part, context part) pyramids of one photograph; refused when its context strip cannot hold the
+    widest crop a context patch takes (``footprint_texels``' max per ``image_size``: a smaller strip would be
+    stretched to the patch, a blur and a ground scale no other terrain shows)."""
     photo = _read_photo(str(path))
     height, width = photo.shape[:2]
-    least = math.ceil(params.patch_size / params.context_fraction)
-    if height < params.patch_size or width < least:
+    strip = math.ceil(params.patch_size * params.footprint_texels[1] / params.image_size)
+    least = math.ceil(strip / params.context_fraction)
+    if height < strip or width < least:
         raise DataError(f"{path}: {width} x {height} px is too small for this profile (its context strip, the right "
-                        f"{params.context_fraction:g} of the width, must hold a {params.patch_size}-px patch): use a "
-                        f"photograph at least {least} px wide and {params.patch_size} px high")
+                        f"{params.context_fraction:g} of the width, must hold a {strip}-px crop): use a photograph "
+                        f"at least {least} px wide and {strip} px high")
     cut = width - max(1, round(width * params.context_fraction))
     return _pyramid(photo[:, :cut]), _pyramid(photo[:, cut:])
 
@@ -202,8 +211,9 @@ def _read_photo(path: str) -> np.ndarray:
 def _decode(path: str, data: bytes) -> np.ndarray:
     bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if _complete_image(data) else None
     if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
-        raise DataError(f"{path}: not a readable image (truncated, or a format OpenCV cannot read); replace it (a packaged "
-                        "photograph: `python -m navlab data build --force`)")
+        raise DataError(f"{path}: not a readable image (truncated, a format OpenCV cannot read, or a JPEG with data "
+                        "after its end, as some phones write); re-save or replace it (a packaged photograph: "
+                        "`python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
