@@ -43,9 +43,14 @@ CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic
 SCREENSHOTS = repo_root() / ".screenshots" / "browser"
 STALL_S = 900  # hang guard only (a smoke notebook takes seconds); not a speed limit
 # JupyterLab settings of the clean settings folder: no autosave (the checkout's notebooks stay as
-# committed) and no news / update checks (no network).
+# committed), no news / update checks (no network), and every cell laid out (windowing mode "none"): the
+# default, "contentVisibility", skips laying out cells out of view, so a widget there has no box until a
+# scroll renders it, and a click on it waited, on a loaded machine, for a box that never came (CI of
+# 7e1c768: the SuReNav map's canvas "not visible" for 30 s, after three earlier scroll-first mends).
+# What the tests check (outputs, figures, clicks answered) does not depend on how JupyterLab windows cells.
 LAB_SETTINGS = {
     "@jupyterlab/docmanager-extension/plugin.jupyterlab-settings": {"autosave": False},
+    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": {"windowingMode": "none"},
     "@jupyterlab/apputils-extension/notification.jupyterlab-settings": {"fetchNews": "false",
                                                                         "checkForUpdates": False},
 }
@@ -168,6 +173,7 @@ _STATE_JS = """() => {
   const kernel = nb.sessionContext.session && nb.sessionContext.session.kernel;
   const cells = nb.content.widgets.filter(c => c.model.type === 'code');
   return {
+    windowing: nb.content.notebookConfig.windowingMode,
     kernel: kernel ? kernel.status : 'none',
     busy: cells.some(c => c.promptNode && c.promptNode.textContent.includes('*')),
     cells: cells.map(c => ({count: c.model.executionCount,
@@ -195,7 +201,8 @@ def run_all(browser, url: str, token: str, notebook: str, screenshot: Path,
         # notification centre, unseen by the test either way
         page.add_style_tag(content=".Toastify__toast-container { display: none !important; }")
         load = lap()
-        _wait(page, "s.kernel === 'idle'", 120)  # the kernel has started
+        started = _wait(page, "s.kernel === 'idle'", 120)  # the kernel has started
+        assert started["windowing"] == "none", f"JupyterLab ignored LAB_SETTINGS: windowing {started['windowing']}"
         kernel = lap()
         page.locator("#jp-menu-panel .lm-MenuBar-item", has_text="Run").first.click()
         page.locator('.lm-Menu-item[data-command="runmenu:run-all"]').click()
@@ -392,9 +399,8 @@ _CANVAS_DIGEST_JS = """() => {
 def wait_drawn(page: Page, condition: str) -> None:
     """Wait (120 s) until ``condition`` (a JS expression) holds for the playground's drawn result, with the
     widget's cell scrolled into view first, as a reader scrolls up to it after Run All (which leaves the page at
-    the last figure): JupyterLab skips laying out cells out of view (windowing mode ``contentVisibility``), so
-    a widget there may wait for the scroll to render. If it never does, the failure says what the widget's cell
-    shows (e.g. "Error displaying widget")."""
+    the last figure). If it never does, the failure says what the widget's cell shows (e.g. "Error displaying
+    widget")."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
     cell = page.locator(".jp-Notebook .jp-CodeCell", has_text="view.widget").first
