@@ -82,6 +82,26 @@ def test_truncated_terrain_photo_is_refused(tmp_path):
         _read_photo(str(path))
 
 
+@pytest.mark.parametrize("suffix", [".jpg", ".png"])
+def test_terrain_photo_with_data_after_its_end_is_read(tmp_path, suffix):
+    """Phones append a motion-photo video or maker data after a JPEG's end: the image itself is complete, so it
+    is read, pixel for pixel as without the trailer; the same photograph cut short inside its image data is
+    refused (OpenCV alone would pad it with grey)."""
+    import cv2
+
+    from navlab.pacer.terrain import _read_photo
+
+    pixels = np.random.default_rng(0).integers(0, 256, (48, 192, 3), dtype=np.uint8)
+    plain, trailer, cut = (tmp_path / f"{name}{suffix}" for name in ("plain", "trailer", "cut"))
+    cv2.imwrite(str(plain), pixels)
+    data = plain.read_bytes()
+    trailer.write_bytes(data + b"\x00\x00\x00\x18ftypmp42" + bytes(4096))
+    cut.write_bytes(data[: len(data) * 3 // 4])
+    np.testing.assert_array_equal(_read_photo(str(trailer)), _read_photo(str(plain)))
+    with pytest.raises(DataError, match="not a readable image"):
+        _read_photo(str(cut))
+
+
 @pytest.mark.parametrize("args, message", [
     (["notebook", "run", "notebooks/no_such.ipynb"], "no such notebook"),
     (["notebook", "run", "README.md"], "no such notebook"),

@@ -17,6 +17,7 @@ from navlab.pacer.artifacts import phase_inputs
 from navlab.pacer.experiments import navigation_rows, pacer_method, uniform_method, window_oracle_method
 from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photos_fingerprint
 from navlab.pacer.train import load_model
+from navlab.pipeline.profile_check import pacer_data_problems
 from pacer_support import with_pacer_data
 
 NAMES = ("planks", "cobbles", "moss", "tarmac")
@@ -104,6 +105,7 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
     (tmp_path / OWN_PHOTOS / "moss.png").unlink()
     with pytest.raises(DataError, match=r"pacer.data.unseen.moss: .*moss.png does not exist; put the photograph"):
         load_terrain_bank(smoke_data, data)
+    assert [p for p in pacer_data_problems(own_params, []) if "moss.png does not exist" in p]  # `params check` too
     typo = with_pacer_data(own_params, unseen={**data.unseen, "moss": ("moss.png",)}).pacer.data
     with pytest.raises(DataError, match=r"pacer.data.unseen.moss: 'moss.png' is not a packaged photograph .* as "
                                         r"terrain_photos/<file>"):
@@ -113,8 +115,10 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least - 1, 2))
     with pytest.raises(DataError, match=rf"moss.png: {least - 1} x {least - 1} px is too small .* at least {least} px"):
         load_terrain_bank(smoke_data, data)
+    assert [p for p in pacer_data_problems(own_params, []) if f"at least {least} px" in p]
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
     assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
+    assert pacer_data_problems(own_params, []) == []
 
 
 def bank_names(bank, group: str) -> list[str]:

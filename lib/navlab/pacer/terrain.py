@@ -27,6 +27,7 @@ own"): ``data build`` replaces data/ whole, so they cannot live there.
 from __future__ import annotations
 
 import hashlib
+import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +35,7 @@ from typing import Literal
 
 import cv2
 import numpy as np
+from PIL import Image
 
 from navlab.core.fingerprint import source_fingerprint
 from navlab.core.io import DataError, require
@@ -199,8 +201,6 @@ def _split_photo(path: Path, params: PacerDataParams) -> tuple[tuple[np.ndarray,
 def _read_photo(path: str) -> np.ndarray:
     """float32 RGB in [0, 1]; grayscale photographs are repeated over the three channels. Decoded once per
     content (a photograph replaced in a running kernel is read anew)."""
-    if not Path(path).is_file():
-        raise DataError(f"{path} is missing: build the dataset with `python -m navlab data build`")
     data = Path(path).read_bytes()
     key = hashlib.sha256(data).hexdigest()
     if key not in _DECODED:
@@ -211,21 +211,24 @@ def _read_photo(path: str) -> np.ndarray:
 def _decode(path: str, data: bytes) -> np.ndarray:
     bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if _complete_image(data) else None
     if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
-        raise DataError(f"{path}: not a readable image (truncated, a format OpenCV cannot read, or a JPEG with data "
-                        "after its end, as some phones write); re-save or replace it (a packaged photograph: "
-                        "`python -m navlab data build --force`)")
+        raise DataError(f"{path}: not a readable image (truncated, or a format OpenCV cannot read); replace it (a "
+                        "packaged photograph: `python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
 
 
 def _complete_image(data: bytes) -> bool:
-    """Whether a JPEG ends with its end-of-image marker and a PNG with its IEND chunk (not truncated);
-    the format is read from the file's magic bytes, not its name."""
-    if data[:2] == b"\xff\xd8":
-        return data.rstrip(b"\0").endswith(b"\xff\xd9")
-    if data[:8] == b"\x89PNG\r\n\x1a\n":
-        return b"IEND" in data[-12:]
+    """Whether a JPEG or PNG holds all its image data (Pillow decodes it in full and refuses a truncated one,
+    which OpenCV would pad with grey). Data after the image's end is allowed: phones append motion-photo
+    videos and maker trailers to their JPEGs. Other formats are left to OpenCV."""
+    if data[:2] != b"\xff\xd8" and data[:8] != b"\x89PNG\r\n\x1a\n":
+        return True
+    try:
+        with Image.open(io.BytesIO(data)) as image:
+            image.load()
+    except (OSError, SyntaxError):
+        return False
     return True
 
 

@@ -47,20 +47,30 @@ def budget_gib(params: Params, device: str) -> float:
 
 def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
     """The checks load_terrain_bank runs on pacer.data before any stage renders (class lists, ordering,
-    [min, max] ranges, terrains per image), without the photographs; the render sizes as a note."""
+    [min, max] ranges, terrains per image) and on the photographs of your own it lists (there, readable,
+    large enough for this profile), without data/; the render sizes as a note."""
+    from navlab.core.io import DataError
     from navlab.core.params import ParamsError
-    from navlab.pacer.terrain import _check_ranges, _check_split
+    from navlab.pacer import terrain
 
     d = params.pacer.data
     notes.append(f"pacer aerial {d.aerial.size} px ({d.aerial.layout}, zoom {d.layout.street_zoom}), "
                  f"test maps {surenav_test_map_px(params)} px, BEV {d.image_size} px, "
                  f"patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
     try:
-        _check_split(d)
-        _check_ranges(d)
+        terrain._check_split(d)
+        terrain._check_ranges(d)
     except ParamsError as err:
         return [str(err)]
-    return []
+    problems = []
+    for group in terrain.GROUPS:
+        for name, sources in getattr(d, group).items():
+            for source in filter(terrain._is_own, sources):  # a packaged photograph needs data/: `data check`'s part
+                try:
+                    terrain._split_photo(terrain._existing_photo("", f"pacer.data.{group}.{name}", source), d)
+                except DataError as err:
+                    problems.append(str(err))
+    return problems
 
 
 def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
