@@ -84,9 +84,9 @@ def test_truncated_terrain_photo_is_refused(tmp_path):
 
 @pytest.mark.parametrize("suffix", [".jpg", ".png"])
 def test_terrain_photo_with_data_after_its_end_is_read(tmp_path, suffix):
-    """Phones append a motion-photo video or maker data after a JPEG's end: the image itself is complete, so it
-    is read, pixel for pixel as without the trailer; the same photograph cut short inside its image data is
-    refused (OpenCV alone would pad it with grey)."""
+    """Phones append a motion-photo video or maker data after a JPEG's end: a JPEG or PNG whose image is
+    complete is read, pixel for pixel as without the trailer; the same photograph cut short inside its image
+    data is refused, with Pillow's reason (OpenCV alone would pad it with grey)."""
     import cv2
 
     from navlab.pacer.terrain import _read_photo
@@ -98,8 +98,27 @@ def test_terrain_photo_with_data_after_its_end_is_read(tmp_path, suffix):
     trailer.write_bytes(data + b"\x00\x00\x00\x18ftypmp42" + bytes(4096))
     cut.write_bytes(data[: len(data) * 3 // 4])
     np.testing.assert_array_equal(_read_photo(str(trailer)), _read_photo(str(plain)))
-    with pytest.raises(DataError, match="not a readable image"):
+    with pytest.raises(DataError, match=r"not a readable image \(Pillow: .*truncated"):
         _read_photo(str(cut))
+
+
+def test_oversized_terrain_photo_is_refused_before_decoding(tmp_path):
+    """A PNG whose header declares 20000 x 10000 px (Pillow's decompression-bomb limit) is refused at its
+    header, with the fix, never decoded into 2.4 GB of float pixels."""
+    import struct
+    import zlib
+
+    from navlab.pacer.terrain import _read_photo
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+
+    header = struct.pack(">IIBBBBB", 20000, 10000, 8, 2, 0, 0, 0)
+    path = tmp_path / "huge.png"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\0" * 64))
+                     + chunk(b"IEND", b""))
+    with pytest.raises(DataError, match=r"huge.png: not a readable image \(.*200000000 pixels.*; resize it"):
+        _read_photo(str(path))
 
 
 @pytest.mark.parametrize("args, message", [

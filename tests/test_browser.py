@@ -47,7 +47,8 @@ STALL_S = 900  # hang guard only (a smoke notebook takes seconds); not a speed l
 # default, "contentVisibility", skips laying out cells out of view, so a widget there has no box until a
 # scroll renders it, and a click on it waited, on a loaded machine, for a box that never came (CI of
 # 7e1c768: the SuReNav map's canvas "not visible" for 30 s, after three earlier scroll-first mends).
-# What the tests check (outputs, figures, clicks answered) does not depend on how JupyterLab windows cells.
+# What the tests check (outputs, figures, clicks answered) does not depend on how JupyterLab windows cells;
+# `make lab` keeps JupyterLab's default.
 LAB_SETTINGS = {
     "@jupyterlab/docmanager-extension/plugin.jupyterlab-settings": {"autosave": False},
     "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": {"windowingMode": "none"},

@@ -116,6 +116,9 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
     with pytest.raises(DataError, match=rf"moss.png: {least - 1} x {least - 1} px is too small .* at least {least} px"):
         load_terrain_bank(smoke_data, data)
     assert [p for p in pacer_data_problems(own_params, []) if f"at least {least} px" in p]
+    ok = cv2.imencode(".png", _texture(2, least, 2))[1].tobytes()
+    (tmp_path / OWN_PHOTOS / "moss.png").write_bytes(ok[: len(ok) // 2])  # cut short
+    assert [p for p in pacer_data_problems(own_params, []) if "moss.png: not a readable image (Pillow" in p]
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
     assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
     assert pacer_data_problems(own_params, []) == []

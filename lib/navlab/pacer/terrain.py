@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import io
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -209,27 +210,32 @@ def _read_photo(path: str) -> np.ndarray:
 
 
 def _decode(path: str, data: bytes) -> np.ndarray:
-    bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if _complete_image(data) else None
-    if bgr is None:  # a truncated JPEG decodes with a grey lower part instead of failing: refused above
-        raise DataError(f"{path}: not a readable image (truncated, or a format OpenCV cannot read); replace it (a "
+    problem = _incomplete_image(data)
+    bgr = None if problem else cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    if bgr is None:
+        raise DataError(f"{path}: not a readable image ({problem or 'OpenCV cannot decode it'}); replace it (a "
                         "packaged photograph: `python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
 
 
-def _complete_image(data: bytes) -> bool:
-    """Whether a JPEG or PNG holds all its image data (Pillow decodes it in full and refuses a truncated one,
-    which OpenCV would pad with grey). Data after the image's end is allowed: phones append motion-photo
-    videos and maker trailers to their JPEGs. Other formats are left to OpenCV."""
-    if data[:2] != b"\xff\xd8" and data[:8] != b"\x89PNG\r\n\x1a\n":
-        return True
+def _incomplete_image(data: bytes) -> str | None:
+    """Why a JPEG or PNG does not hold all its image data, or None: Pillow decodes it in full and refuses one
+    cut short, which OpenCV would pad with grey. Data after the image's end is allowed (phones append
+    motion-photo videos and maker trailers to their JPEGs); other formats are left to OpenCV."""
+    if not data.startswith((b"\xff\xd8", b"\x89PNG\r\n\x1a\n")):
+        return None
     try:
-        with Image.open(io.BytesIO(data)) as image:
-            image.load()
-    except (OSError, SyntaxError):
-        return False
-    return True
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # a large photograph, not an attack
+            with Image.open(io.BytesIO(data), formats=("JPEG", "PNG")) as image:
+                image.load()
+    except Image.DecompressionBombError as error:
+        return f"{error}; resize it (README, \"PACER on terrains of your own\", says to what)"
+    except (OSError, SyntaxError, ValueError) as error:
+        return f"Pillow: {error}"
+    return None
 
 
 def _pyramid(image: np.ndarray) -> tuple[np.ndarray, ...]:

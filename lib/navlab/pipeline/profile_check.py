@@ -8,6 +8,8 @@ because the ``gpu`` profile once trained for ~2 h and then stopped at the tables
 maps did not fit in the 500-px SuReNav test maps). Each check calls the code that would fail at run
 time on stand-in inputs (models on the ``meta`` device: shapes, no memory; the validations the stages
 themselves run), and compares memory estimates with the budget of the machine the profile targets.
+The one real input it reads: the photographs of your own that ``pacer.data`` lists (``terrain_photos/``,
+in git), each checked as the bank will read it.
 
 Each ``*_problems`` function covers one stage family and returns one line per problem, naming the
 params key; it may append what it measured to ``notes`` (parameter counts, sizes, memory).
@@ -70,7 +72,7 @@ def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
                     terrain._split_photo(terrain._existing_photo("", f"pacer.data.{group}.{name}", source), d)
                 except DataError as err:
                     problems.append(str(err))
-    return problems
+    return list(dict.fromkeys(problems))  # a photograph two classes list: one line
 
 
 def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
