@@ -145,12 +145,12 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
     must key on what the datasets read, or the re-run resumes the finished run and returns its weights."""
     from navlab.core.params import load_params
     from navlab.pacer.artifacts import phase_inputs
+    from navlab.pacer.terrain import listed_photos
     from navlab.pacer.train import run_key
 
     data = tmp_path / "data"
     base = load_params("default")
-    listed = [src for group in ("seen", "unseen", "synthetic")
-              for srcs in getattr(base.pacer.data, group).values() for src in srcs]
+    listed = [source for _, source in listed_photos(base.pacer.data)]
     for path, text in (*((f"raw/terrain/{src}", src) for src in listed), ("raw/terrain/unlisted.png", "u"),
                        ("surenav/maps/train/m0.npz", "m"), ("surenav/maps/val/m1.npz", "v"),
                        ("surenav/maps/test/m2.npz", "t")):

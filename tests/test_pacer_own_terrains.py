@@ -113,12 +113,17 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
     strip = int(np.ceil(data.patch_size * data.footprint_texels[1] / data.image_size))
     least = int(np.ceil(strip / data.context_fraction))
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least - 1, 2))
-    with pytest.raises(DataError, match=rf"moss.png: {least - 1} x {least - 1} px is too small .* at least {least} px"):
+    with pytest.raises(DataError, match=rf"pacer.data.unseen.moss: .*moss.png is {least - 1} x {least - 1} px, too "
+                                        rf"small .* at least {least} px"):
         load_terrain_bank(smoke_data, data)
     assert [p for p in pacer_data_problems(own_params, []) if f"at least {least} px" in p]
     ok = cv2.imencode(".png", _texture(2, least, 2))[1].tobytes()
     (tmp_path / OWN_PHOTOS / "moss.png").write_bytes(ok[: len(ok) // 2])  # cut short
+    with pytest.raises(DataError, match=r"pacer.data.unseen.moss: .*moss.png: not a readable image \(Pillow"):
+        load_terrain_bank(smoke_data, data)
     assert [p for p in pacer_data_problems(own_params, []) if "moss.png: not a readable image (Pillow" in p]
+    empty = with_pacer_data(own_params, unseen={**data.unseen, "moss": ()})
+    assert pacer_data_problems(empty, []) == ["pacer.data.unseen.moss: no photographs; list at least one"]
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
     assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
     assert pacer_data_problems(own_params, []) == []

@@ -30,6 +30,7 @@ import hashlib
 import io
 import math
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -56,6 +57,11 @@ class Terrain:
     name: str
     group: Group
     sources: tuple[str, ...]  # photographs: under <data_dir>/raw/terrain, or terrain_photos/... (photo_path)
+
+    @property
+    def key(self) -> str:
+        """The params.yaml key that lists this class's photographs (what an error about one names)."""
+        return f"pacer.data.{self.group}.{self.name}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,41 +108,75 @@ def pyramid_level(scale: float) -> int:
 
 def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainBank:
     """The bank for ``params`` (``params.pacer.data``), its photographs found by :func:`photo_path`."""
-    _check_split(params)
-    _check_ranges(params)
+    check_terrain_params(params)
     require(data_dir, "raw", "terrain")
-    terrains, image_parts, context_parts = [], [], []
-    for group in GROUPS:
-        for name, sources in getattr(params, group).items():
-            if not sources:
-                raise ParamsError(f"pacer.data.{group}.{name}: no photographs; list at least one")
-            terrains.append(Terrain(len(terrains), name, group, tuple(sources)))
-            parts = [_split_photo(_existing_photo(data_dir, f"pacer.data.{group}.{name}", src), params)
-                     for src in sources]
-            image_parts.append(tuple(p[0] for p in parts))
-            context_parts.append(tuple(p[1] for p in parts))
+    terrains = terrain_classes(params)
+    parts = [[_split_photo(read_listed_photo(data_dir, t.key, src, params), params) for src in t.sources]
+             for t in terrains]
     index = {t.name: t.id for t in terrains}
     rank = np.full(len(terrains), -1, dtype=np.int64)
     rank[[index[n] for n in params.realistic_ordering]] = np.arange(len(params.realistic_ordering))
-    return TerrainBank(tuple(terrains), tuple(image_parts), tuple(context_parts), rank)
+    return TerrainBank(terrains, tuple(tuple(p[0] for p in photos) for photos in parts),
+                       tuple(tuple(p[1] for p in photos) for photos in parts), rank)
+
+
+def terrain_classes(params: PacerDataParams) -> tuple[Terrain, ...]:
+    """Every class ``pacer.data`` lists, its id its position: seen, unseen, then synthetic, each in params order."""
+    listed = [(group, name, tuple(sources)) for group in GROUPS for name, sources in getattr(params, group).items()]
+    return tuple(Terrain(i, name, group, sources) for i, (group, name, sources) in enumerate(listed))
+
+
+def listed_photos(params: PacerDataParams) -> Iterator[tuple[str, str]]:
+    """(params key, source) of every photograph a class lists, in bank order (one a second class lists comes
+    again, under that class's key): the one walk the bank, its fingerprint and ``params check`` share."""
+    return ((t.key, source) for t in terrain_classes(params) for source in t.sources)
+
+
+def read_listed_photo(data_dir: str | Path, key: str, source: str, params: PacerDataParams) -> np.ndarray:
+    """The photograph ``source`` that ``key`` lists, as float32 RGB in [0, 1]; a DataError naming ``key`` when it
+    is missing or unreadable, or when its context strip (the right ``context_fraction`` of the width) cannot hold
+    the widest crop a context patch takes (``footprint_texels``' max per ``image_size``: a smaller strip would be
+    stretched to the patch, a blur and a ground scale no other terrain shows). ``params check`` runs it on
+    photographs of your own, so a profile that cannot read one is refused before training."""
+    path = _existing_photo(data_dir, key, source)
+    try:
+        photo = _read_photo(str(path))
+    except DataError as error:
+        raise DataError(f"{key}: {error}") from None
+    height, width = photo.shape[:2]
+    strip = math.ceil(params.patch_size * params.footprint_texels[1] / params.image_size)
+    least = math.ceil(strip / params.context_fraction)
+    if height < strip or width < least:
+        raise DataError(f"{key}: {path} is {width} x {height} px, too small for this profile (its context strip, "
+                        f"the right {params.context_fraction:g} of the width, must hold a {strip}-px crop): use a "
+                        f"photograph at least {least} px wide and {strip} px high")
+    return photo
 
 
 def photo_path(data_dir: str | Path, source: str) -> Path:
     """Where the photograph ``source`` (an entry of a ``pacer.data`` class list) lives: in the checkout's
     ``terrain_photos/`` when it begins with that folder (photographs of your own, kept by git), else under
     ``<data_dir>/raw/terrain`` (the packages' photographs, which ``data build`` writes)."""
-    return repo_root() / source if _is_own(source) else Path(data_dir, "raw", "terrain", source)
+    return repo_root() / source if is_own_photo(source) else Path(data_dir, "raw", "terrain", source)
 
 
 def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
     """sha256 over (source, content) of every photograph the bank reads: what a trained model keys on, so a
     photograph replaced under the same name retrains what learned from it."""
-    sources = {src for group in GROUPS for srcs in getattr(params, group).values() for src in srcs}
-    return source_fingerprint((src, photo_path(data_dir, src)) for src in sources)
+    sources = {source for _, source in listed_photos(params)}
+    return source_fingerprint((source, photo_path(data_dir, source)) for source in sources)
 
 
-def _is_own(source: str) -> bool:
+def is_own_photo(source: str) -> bool:
+    """Whether ``source`` is a photograph of your own (in the checkout's ``terrain_photos/``, not data/)."""
     return Path(source).parts[:1] == (OWN_PHOTOS,)
+
+
+def check_terrain_params(params: PacerDataParams) -> None:
+    """One clear ParamsError for ``pacer.data`` settings no bank can be built from (the class lists, the
+    ordering, the [min, max] ranges, terrains per image), before any photograph is read."""
+    _check_split(params)
+    _check_ranges(params)
 
 
 def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
@@ -145,15 +185,19 @@ def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
     path = photo_path(data_dir, source)
     if path.is_file():
         return path
-    if _is_own(source):
+    if is_own_photo(source):
         raise DataError(f"{key}: {path} does not exist; put the photograph there or correct {key} in params.yaml")
     raise DataError(f"{key}: {source!r} is not a packaged photograph ({path} does not exist); list a photograph of "
                     f"your own as {OWN_PHOTOS}/<file>, or rebuild data/ with `python -m navlab data build --force`")
 
 
 def _check_split(params: PacerDataParams) -> None:
-    """One clear ParamsError when the class lists and the ordering disagree."""
-    names = [n for g in GROUPS for n in getattr(params, g)]
+    """One clear ParamsError when a class lists no photograph, or the class lists and the ordering disagree."""
+    classes = terrain_classes(params)
+    empty = [t.key for t in classes if not t.sources]
+    if empty:
+        raise ParamsError(f"{', '.join(empty)}: no photographs; list at least one")
+    names = [t.name for t in classes]
     duplicated = sorted({n for n in names if names.count(n) > 1})
     if duplicated:
         raise ParamsError(f"pacer.data: terrain classes {duplicated} appear in more than one group; "
@@ -183,19 +227,9 @@ def _check_ranges(params: PacerDataParams) -> None:
         raise ParamsError("pacer.data.synthetic: no classes; D_synthetic needs at least one synthetic terrain")
 
 
-def _split_photo(path: Path, params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
-    """(image part, context part) pyramids of one photograph; refused when its context strip cannot hold the
-    widest crop a context patch takes (``footprint_texels``' max per ``image_size``: a smaller strip would be
-    stretched to the patch, a blur and a ground scale no other terrain shows)."""
-    photo = _read_photo(str(path))
-    height, width = photo.shape[:2]
-    strip = math.ceil(params.patch_size * params.footprint_texels[1] / params.image_size)
-    least = math.ceil(strip / params.context_fraction)
-    if height < strip or width < least:
-        raise DataError(f"{path}: {width} x {height} px is too small for this profile (its context strip, the right "
-                        f"{params.context_fraction:g} of the width, must hold a {strip}-px crop): use a photograph "
-                        f"at least {least} px wide and {strip} px high")
-    cut = width - max(1, round(width * params.context_fraction))
+def _split_photo(photo: np.ndarray, params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+    """(image part, context part) pyramids of one photograph, cut along its width."""
+    cut = photo.shape[1] - max(1, round(photo.shape[1] * params.context_fraction))
     return _pyramid(photo[:, :cut]), _pyramid(photo[:, cut:])
 
 

@@ -60,19 +60,17 @@ def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
                  f"test maps {surenav_test_map_px(params)} px, BEV {d.image_size} px, "
                  f"patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
     try:
-        terrain._check_split(d)
-        terrain._check_ranges(d)
+        terrain.check_terrain_params(d)
     except ParamsError as err:
         return [str(err)]
     problems = []
-    for group in terrain.GROUPS:
-        for name, sources in getattr(d, group).items():
-            for source in filter(terrain._is_own, sources):  # a packaged photograph needs data/: `data check`'s part
-                try:
-                    terrain._split_photo(terrain._existing_photo("", f"pacer.data.{group}.{name}", source), d)
-                except DataError as err:
-                    problems.append(str(err))
-    return list(dict.fromkeys(problems))  # a photograph two classes list: one line
+    for key, source in terrain.listed_photos(d):
+        if terrain.is_own_photo(source):  # a packaged photograph needs data/: `data check`'s part
+            try:
+                terrain.read_listed_photo("", key, source, d)
+            except DataError as err:
+                problems.append(str(err))
+    return problems
 
 
 def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
