@@ -123,7 +123,8 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
         load_terrain_bank(smoke_data, data)
     assert [p for p in pacer_data_problems(own_params, []) if "moss.png: not a readable image (Pillow" in p]
     empty = with_pacer_data(own_params, unseen={**data.unseen, "moss": ()})
-    assert pacer_data_problems(empty, []) == ["pacer.data.unseen.moss: no photographs; list at least one"]
+    assert pacer_data_problems(empty, []) == [
+        "pacer.data.unseen.moss: no photographs; list at least one photograph for each class"]
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
     assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
     assert pacer_data_problems(own_params, []) == []

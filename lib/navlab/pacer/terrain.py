@@ -59,7 +59,7 @@ class Terrain:
     sources: tuple[str, ...]  # photographs: under <data_dir>/raw/terrain, or terrain_photos/... (photo_path)
 
     @property
-    def key(self) -> str:
+    def params_key(self) -> str:
         """The params.yaml key that lists this class's photographs (what an error about one names)."""
         return f"pacer.data.{self.group}.{self.name}"
 
@@ -111,8 +111,8 @@ def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainB
     check_terrain_params(params)
     require(data_dir, "raw", "terrain")
     terrains = terrain_classes(params)
-    parts = [[_split_photo(read_listed_photo(data_dir, t.key, src, params), params) for src in t.sources]
-             for t in terrains]
+    parts = [[_split_photo(read_listed_photo(data_dir, t.params_key, source, params), params)
+              for source in t.sources] for t in terrains]
     index = {t.name: t.id for t in terrains}
     rank = np.full(len(terrains), -1, dtype=np.int64)
     rank[[index[n] for n in params.realistic_ordering]] = np.arange(len(params.realistic_ordering))
@@ -121,35 +121,37 @@ def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainB
 
 
 def terrain_classes(params: PacerDataParams) -> tuple[Terrain, ...]:
-    """Every class ``pacer.data`` lists, its id its position: seen, unseen, then synthetic, each in params order."""
-    listed = [(group, name, tuple(sources)) for group in GROUPS for name, sources in getattr(params, group).items()]
+    """Every class ``pacer.data`` lists, its id its position: seen, unseen, then synthetic, each in params
+    order."""
+    listed = [(group, name, tuple(sources))
+              for group in GROUPS for name, sources in getattr(params, group).items()]
     return tuple(Terrain(i, name, group, sources) for i, (group, name, sources) in enumerate(listed))
 
 
 def listed_photos(params: PacerDataParams) -> Iterator[tuple[str, str]]:
-    """(params key, source) of every photograph a class lists, in bank order (one a second class lists comes
-    again, under that class's key): the one walk the bank, its fingerprint and ``params check`` share."""
-    return ((t.key, source) for t in terrain_classes(params) for source in t.sources)
+    """(params key, source) of every photograph a class lists, in bank order (a photograph two classes list
+    appears once per class): the one walk the bank, its fingerprint and ``params check`` share."""
+    return ((t.params_key, source) for t in terrain_classes(params) for source in t.sources)
 
 
 def read_listed_photo(data_dir: str | Path, key: str, source: str, params: PacerDataParams) -> np.ndarray:
-    """The photograph ``source`` that ``key`` lists, as float32 RGB in [0, 1]; a DataError naming ``key`` when it
-    is missing or unreadable, or when its context strip (the right ``context_fraction`` of the width) cannot hold
-    the widest crop a context patch takes (``footprint_texels``' max per ``image_size``: a smaller strip would be
-    stretched to the patch, a blur and a ground scale no other terrain shows). ``params check`` runs it on
-    photographs of your own, so a profile that cannot read one is refused before training."""
+    """The photograph ``source`` that ``key`` lists, as float32 RGB in [0, 1]; a DataError naming ``key``
+    when it is missing or unreadable, or when its context strip (the right ``context_fraction`` of the width)
+    cannot hold the widest crop a context patch takes (``footprint_texels``' max per ``image_size``: a smaller
+    strip would be stretched to the patch, a blur and a ground scale no other terrain shows). ``params check``
+    runs it on photographs of your own, so a profile that cannot read one is refused before training."""
     path = _existing_photo(data_dir, key, source)
     try:
         photo = _read_photo(str(path))
-    except DataError as error:
+    except (DataError, OSError) as error:  # OSError: there but not readable (permissions, a folder)
         raise DataError(f"{key}: {error}") from None
     height, width = photo.shape[:2]
     strip = math.ceil(params.patch_size * params.footprint_texels[1] / params.image_size)
     least = math.ceil(strip / params.context_fraction)
     if height < strip or width < least:
-        raise DataError(f"{key}: {path} is {width} x {height} px, too small for this profile (its context strip, "
-                        f"the right {params.context_fraction:g} of the width, must hold a {strip}-px crop): use a "
-                        f"photograph at least {least} px wide and {strip} px high")
+        raise DataError(f"{key}: {path} is {width} x {height} px, too small for this profile (its context "
+                        f"strip, the right {params.context_fraction:g} of the width, must hold a {strip}-px "
+                        f"crop): use a photograph at least {least} px wide and {strip} px high")
     return photo
 
 
@@ -175,7 +177,7 @@ def is_own_photo(source: str) -> bool:
 def check_terrain_params(params: PacerDataParams) -> None:
     """One clear ParamsError for ``pacer.data`` settings no bank can be built from (the class lists, the
     ordering, the [min, max] ranges, terrains per image), before any photograph is read."""
-    _check_split(params)
+    _check_classes(params)
     _check_ranges(params)
 
 
@@ -191,12 +193,13 @@ def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
                     f"your own as {OWN_PHOTOS}/<file>, or rebuild data/ with `python -m navlab data build --force`")
 
 
-def _check_split(params: PacerDataParams) -> None:
-    """One clear ParamsError when a class lists no photograph, or the class lists and the ordering disagree."""
+def _check_classes(params: PacerDataParams) -> None:
+    """One clear ParamsError when a class lists no photograph, or the class lists and the ordering
+    disagree."""
     classes = terrain_classes(params)
-    empty = [t.key for t in classes if not t.sources]
+    empty = [t.params_key for t in classes if not t.sources]
     if empty:
-        raise ParamsError(f"{', '.join(empty)}: no photographs; list at least one")
+        raise ParamsError(f"{', '.join(empty)}: no photographs; list at least one photograph for each class")
     names = [t.name for t in classes]
     duplicated = sorted({n for n in names if names.count(n) > 1})
     if duplicated:
@@ -227,7 +230,8 @@ def _check_ranges(params: PacerDataParams) -> None:
         raise ParamsError("pacer.data.synthetic: no classes; D_synthetic needs at least one synthetic terrain")
 
 
-def _split_photo(photo: np.ndarray, params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+def _split_photo(photo: np.ndarray,
+                 params: PacerDataParams) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
     """(image part, context part) pyramids of one photograph, cut along its width."""
     cut = photo.shape[1] - max(1, round(photo.shape[1] * params.context_fraction))
     return _pyramid(photo[:, :cut]), _pyramid(photo[:, cut:])

@@ -70,7 +70,7 @@ def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
                 terrain.read_listed_photo("", key, source, d)
             except DataError as err:
                 problems.append(str(err))
-    return problems
+    return list(dict.fromkeys(problems))  # a photograph one class lists twice: one line (two classes: one each)
 
 
 def pacer_model_problems(params: Params, notes: list[str]) -> list[str]:
