@@ -3,6 +3,9 @@
 import re
 from pathlib import Path
 
+from dataclasses import asdict
+
+from navlab.metrics.claims import Claim, PaperClaim
 from navlab.metrics.tables import Table
 from navlab.pipeline.reports import write_table
 from navlab.pipeline.results import (
@@ -11,9 +14,12 @@ from navlab.pipeline.results import (
     PAPERS,
     claims_of,
     headline_block,
+    paper_claims,
     read_tracks,
+    registries,
     render_page,
     shown_figures,
+    tally_line,
     write_index,
 )
 
@@ -21,7 +27,7 @@ REPORTS = Path("reports")
 
 
 def test_the_committed_results_page_is_current():
-    page = render_page(read_tracks(REPORTS), shown_figures(REPORTS)) + "\n"
+    page = render_page(read_tracks(REPORTS), shown_figures(REPORTS), registries()) + "\n"
     assert (REPORTS / "README.md").read_text(encoding="utf8") == page, \
         "reports/README.md is stale: run `python -m navlab reports index`"
 
@@ -29,7 +35,7 @@ def test_the_committed_results_page_is_current():
 def test_the_front_door_block_is_current():
     readme = Path("README.md").read_text(encoding="utf8")
     block = readme[readme.index(BEGIN):readme.index(END) + len(END)]
-    assert block == headline_block(read_tracks(REPORTS), shown_figures(REPORTS), "reports/README.md"), \
+    assert block == headline_block(read_tracks(REPORTS), shown_figures(REPORTS), "reports/README.md", registries()), \
         "README.md's results block is stale: run `python -m navlab reports index`"
 
 
@@ -37,7 +43,8 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
     page = (REPORTS / "README.md").read_text(encoding="utf8")
     for paper in PAPERS.values():
         section = page.split(f"## {paper.name}\n", 1)[1].split("\n## ", 1)[0]
-        assert f"### {paper.name} claims\n\n| table | claim | paper | ours | verdict | why |" in section
+        assert f"### {paper.name} claims\n\n" in section
+        assert "| table | claim | where | the paper says | paper | ours | verdict | why |" in section
     assert "/ —" not in page and "/ —" not in Path("README.md").read_text(encoding="utf8")
     for readme, base in ((REPORTS / "README.md", REPORTS), (Path("README.md"), Path("."))):
         images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme.read_text(encoding="utf8"))
@@ -46,25 +53,21 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
     assert all(f"]({path})" in page for path in shown) and len(shown) >= len(PAPERS)
 
 
-def test_claims_are_read_from_each_notes_form_and_from_typed_data():
-    hj = ("Set-up. Claims: TTR cuts A* expansions (on tasks): holds (10 vs 20); BRT raises success: DOES NOT HOLD "
-          "(4/4 vs 4/4; paper 4/4 vs 2/4; why: OBS already solves all (see Fig. 7)). Failures: none.")
-    surenav = ("x. Claims: a: b first: inconclusive (SuReNav not run) | c: does not hold (0.1 vs 0.2: x0.50; "
-               "paper 0.416 vs 0.271; why: personas (see d))")
-    pacer = "y. Claim 'PACER beats STERLING (2a)': inconclusive (+0.1, 95% CI [-0.0, 0.2]). Claim 'z': holds (1)."
-    got = [claims_of({"notes": n}) for n in (hj, surenav, pacer)]
-    assert [(c.claim, c.verdict, c.paper, c.ours, c.why) for c in got[0]] == [
-        ("TTR cuts A* expansions (on tasks)", "holds", "", "10 vs 20", ""),
-        ("BRT raises success", "does not hold", "4/4 vs 2/4", "4/4 vs 4/4", "OBS already solves all (see Fig. 7)")]
-    assert [(c.claim, c.verdict, c.ours, c.paper, c.why) for c in got[1]] == [
-        ("a: b first", "inconclusive", "SuReNav not run", "", ""),
-        ("c", "does not hold", "0.1 vs 0.2: x0.50", "0.416 vs 0.271", "personas (see d)")]
-    older = "x. Claims: a: undecided (SuReNav not run) | c: does not hold (ours: 0.1; why: personas)"  # before issue 27
-    assert [(c.claim, c.verdict, c.ours, c.why) for c in claims_of({"notes": older})] == [
-        ("a", "inconclusive", "SuReNav not run", ""), ("c", "does not hold", "0.1", "personas")]
-    assert [(c.claim, c.verdict) for c in got[2]] == [("PACER beats STERLING (2a)", "inconclusive"), ("z", "holds")]
-    typed = {"notes": hj, "claims": [{"claim": "t", "verdict": "Holds", "ours": "1 [0, 2]", "paper": 3}]}
-    assert [(c.claim, c.verdict, c.paper, c.why) for c in claims_of(typed)] == [("t", "holds", "3", "")]
+def test_claims_are_read_back_typed_and_the_tally_counts_only_the_papers():
+    quoted = dict(quote="we find it", where="Sec. I")
+    report = {"claims": [asdict(Claim("a", "holds", "1", key="k1", **quoted)),
+                         asdict(Claim("b", "inconclusive", "2", key="k2", **quoted)),
+                         asdict(Claim("ours", "holds", "3", source="ours"))]}
+    assert [(c.claim, c.verdict, c.source) for c in claims_of(report)] == [
+        ("a", "holds", "paper"), ("b", "inconclusive", "paper"), ("ours", "holds", "ours")]
+    registry = {k: PaperClaim(k, k, "we find it", "Sec. I", report="t") for k in ("k1", "k2", "k3")}
+    registry["k4"] = PaperClaim("k4", "robot", "we find it", "Sec. II", not_tested="a real robot")
+    claims = paper_claims("hj", [("t", report)], registry)
+    assert [(c.key, c.verdict) for _, c in claims] == [
+        ("k1", "holds"), ("k2", "inconclusive"), ("k4", "not tested"), ("k3", "not tested")]
+    assert "does not decide it" in claims[3][1].why  # a registry claim its report forgot is shown, not dropped
+    assert tally_line([c for _, c in claims]) == (
+        "1 of 4 of the paper's claims hold, 1 inconclusive, 2 not tested")
 
 
 def test_a_table_shows_the_papers_columns_with_inline_intervals(tmp_path):
@@ -73,11 +76,13 @@ def test_a_table_shows_the_papers_columns_with_inline_intervals(tmp_path):
     paper_rows = [{"method": "PACER", "maps": 20, "low": 0.7, "high": None},
                   {"method": "Classifier", "maps": 20, "low": 0.6, "high": None}]
     table = Table("table1_seen", "PACER Table I", ["method", "maps", "low", "low_ci", "high", "loss"], rows, paper_rows,
-                  "Claim 'PACER is good': holds (0.75).")
+                  "set-up", claims=(Claim("PACER is good", "holds", "0.75", quote="q", where="w", key="good"),
+                                    Claim("a check of ours", "holds", "1", source="ours")))
     write_table(tmp_path, table, track="pacer", profile="smoke", seeds=[0])
     page = write_index(tmp_path).read_text()
     assert "| method | maps | low | low (paper) | high |" in page  # loss is ours alone: a diagnostic
     assert "| PACER | 20 | 0.75 [0.471, 0.912] | 0.7 | 0.1 |" in page
     assert "| Oracle | 20 | 0.9 [0.8, 0.95] |  | 0 |" in page and "| Classifier | not run | not run | 0.6 | not run |" in page
     assert "The paper's maps: the same as ours. The paper prints no number for high." in page
-    assert "| [table1_seen](pacer/table1_seen.md) | PACER is good |  | 0.75 | holds |  |" in page
+    assert '| [table1_seen](pacer/table1_seen.md) | PACER is good | w | "q" |  | 0.75 | holds |  |' in page
+    assert "| [table1_seen](pacer/table1_seen.md) | a check of ours | 1 | holds |  |" in page

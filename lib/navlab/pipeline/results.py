@@ -3,9 +3,10 @@
 Why generated: a number typed by hand goes stale the next time a stage runs. The page shows, per paper and
 in the paper's order, only the paper's own columns with our 95% interval inline (``0.75 [0.47, 0.91]``)
 and the paper's number beside ours where it prints one; diagnostics (intervals as columns, seed spreads,
-failure counts, timings) stay in each table's own ``.md``/JSON. Each paper gets one claims table (claim,
-paper's number, ours, verdict, why), read from a report's typed ``claims`` list when it has one, else
-from the claim sentences the table code writes into its notes (:func:`claims_of`). A few chosen figures
+failure counts, timings) stay in each table's own ``.md``/JSON. Each paper gets one claims table: every
+claim in its track's registry (``navlab.<track>.claims.CLAIMS``), quoted, with the verdict its report's
+typed ``claims`` records give it (or "not tested", with the reason), tallied apart from our own checks,
+which get a table of their own. A few chosen figures
 per track (``FIGURES``) are committed to git by the stages that draw them (``cache: false`` outputs,
 ``navlab.pipeline.dvc_yaml``), so the page and README.md show them on GitHub and a fresh clone has them
 whichever stages it re-runs; the page links them where they lie.
@@ -16,11 +17,12 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
 from typing import Any
 
 from navlab.core.io import DataError, write_text
-from navlab.metrics.tables import Claim
+from navlab.metrics.claims import Claim, PaperClaim, tally
 from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
 
 INDEX = "README.md"
@@ -83,53 +85,60 @@ SHOWN = {
 
 # ---------------------------------------------------------------------------------------------- claims
 
-# "undecided": SuReNav's word for "inconclusive" in notes written before it used metrics.tables.Claim
-VERDICTS = {"holds": "holds", "does not hold": "does not hold", "inconclusive": "inconclusive",
-            "undecided": "inconclusive"}
-_VERDICT = r"(?P<verdict>holds|does not hold|inconclusive|undecided)"
-_QUOTED = re.compile(r"Claim '(?P<text>[^']+)': " + _VERDICT + r" \(", re.IGNORECASE)  # PACER's sentences
-_LISTED = re.compile(r"(?P<text>[^;|]+?): " + _VERDICT + r" \(", re.IGNORECASE)  # "Claims: a: holds (..); b: .."
-
-
 def claims_of(report: dict[str, Any]) -> list[Claim]:
-    """The paper's claims checked in ``report``: its typed ``claims`` list (keys claim, paper, ours, verdict,
-    why) where it has one, else the claim sentences of its notes, written by the table code in one of two
-    forms: ``Claims: <claim>: <verdict> (<ours>[; paper <n>][; why: <why>])``, separated by ``;`` or ``|``,
-    or ``Claim '<claim>': <verdict> (<ours>).``"""
-    if report.get("claims"):
-        return [Claim(c["claim"], VERDICTS[c["verdict"].lower()], str(c.get("ours") or ""),
-                      paper=str(c.get("paper") or ""), why=c.get("why") or "") for c in report["claims"]]
-    notes = report["notes"]
-    found = [_claim(m, notes) for m in _QUOTED.finditer(notes)]
-    start = notes.find("Claims: ")
-    pos = start + len("Claims: ") if start >= 0 else len(notes)
-    while (m := _LISTED.match(notes, pos)) is not None:
-        found.append(_claim(m, notes))
-        pos = m.end() - 1 + len(_balanced(notes, m.end() - 1))
-        sep = re.match(r"; | \| ", notes[pos:])
-        if not sep:
-            break
-        pos += sep.end()
+    """The claims a report decided: its typed ``claims`` records (the paper's and ours), as written."""
+    return [Claim.from_dict(c) for c in report.get("claims") or []]
+
+
+CLAIM_MODULES = {track: f"navlab.{track}.claims" for track in PAPERS}  # each holds CLAIMS, the registry
+
+
+def registries() -> dict[str, dict[str, PaperClaim]]:
+    """{track: its claims registry}: every claim of each paper, quoted, decided by a report or not tested.
+    Imported when the page is written, not with this module (every CLI command imports it through
+    ``dvc_yaml``); the index stage's deps name them (``pipeline.stages.entry_modules``)."""
+    return {track: import_module(module).CLAIMS for track, module in CLAIM_MODULES.items()}
+
+
+def paper_claims(track: str, reports: list[tuple[str, dict[str, Any]]],
+                 registry: dict[str, PaperClaim]) -> list[tuple[str, Claim]]:
+    """(where it was decided, claim) for each of the paper's claims: as its reports decided them, then those
+    no report tests (the registry's reason), then those a report should decide but does not (a missing report
+    or an out-of-date one: "not tested", saying which)."""
+    found = [(_link(track, table_id), c) for table_id, report in reports for c in claims_of(report)
+             if c.source == "paper"]
+    decided = {c.key for _, c in found}
+    present = {table_id for table_id, _ in reports}
+    for entry in registry.values():
+        if entry.key in decided:
+            continue
+        if entry.not_tested:
+            found.append(("—", entry.untested()))
+        else:
+            why = (f"its report `{entry.report}` does not decide it (re-run its stage)" if entry.report in present
+                   else f"its report `{entry.report}` has not been made")
+            found.append((_link(track, entry.report) if entry.report in present else "—", entry.untested(why)))
     return found
 
 
-def _balanced(text: str, i: int) -> str:
-    """The parenthesised group opening at ``text[i]``, both parentheses included."""
-    depth = 0
-    for j in range(i, len(text)):
-        depth += {"(": 1, ")": -1}.get(text[j], 0)
-        if depth == 0:
-            return text[i:j + 1]
-    return text[i:]
+def our_checks(track: str, reports: list[tuple[str, dict[str, Any]]]) -> list[tuple[str, Claim]]:
+    """Our own checks (diagnostics the paper does not state), counted apart from the paper's claims."""
+    return [(_link(track, table_id), c) for table_id, report in reports for c in claims_of(report)
+            if c.source == "ours"]
 
 
-def _claim(m: re.Match, notes: str) -> Claim:
-    detail = _balanced(notes, m.end() - 1)[1:-1]
-    ours, _, why = detail.partition("; why: ")
-    parts = ours.split("; ")
-    paper = [p.removeprefix("paper ") for p in parts if p.startswith("paper ")]
-    ours = "; ".join(p for p in parts if not p.startswith("paper ")).removeprefix("ours: ")
-    return Claim(m["text"].strip(), VERDICTS[m["verdict"].lower()], ours, paper="; ".join(paper), why=why)
+def _link(track: str, table_id: str) -> str:
+    return f"[{table_id}]({track}/{table_id}.md)"
+
+
+def tally_line(claims: list[Claim]) -> str:
+    """"N of M of the paper's claims hold, ..." with every verdict that occurs."""
+    counts = tally(claims)
+    parts = [f"{counts[v]} {label}" for v, label in (("holds in direction only", "hold in direction only"),
+                                                      ("does not hold", "do not hold"),
+                                                      ("inconclusive", "inconclusive"),
+                                                      ("not tested", "not tested")) if counts[v]]
+    return f"{counts['holds']} of {len(claims)} of the paper's claims hold" + "".join(f", {p}" for p in parts)
 
 
 # ---------------------------------------------------------------------------------------------- tables
@@ -203,11 +212,24 @@ def table_markdown(report: dict[str, Any], track: str) -> list[str]:
     return [*lines, "", " ".join(notes)] if notes else lines
 
 
+def _cell_text(text: str) -> str:
+    return (text or "").replace("|", "\\|").replace("\n", " ")
+
+
 def _claims_table(claims: list[tuple[str, Claim]]) -> list[str]:
-    lines = ["| table | claim | paper | ours | verdict | why |", "|---|---|---|---|---|---|"]
+    lines = ["| table | claim | where | the paper says | paper | ours | verdict | why |", "|---|---|---|---|---|---|---|---|"]
     for table, c in claims:
-        cells = (table, c.claim, c.paper, c.ours, f"**{c.verdict}**" if c.verdict != "holds" else c.verdict, c.why)
-        lines.append("| " + " | ".join(s.replace("|", "\\|") for s in cells) + " |")
+        verdict = f"**{c.verdict}**" if c.verdict != "holds" else c.verdict
+        cells = (table, c.claim, c.where, f'"{c.quote}"', c.paper, c.ours, verdict, c.why)
+        lines.append("| " + " | ".join(map(_cell_text, cells)) + " |")
+    return lines
+
+
+def _checks_table(checks: list[tuple[str, Claim]]) -> list[str]:
+    lines = ["| table | check | ours | verdict | why |", "|---|---|---|---|---|"]
+    for table, c in checks:
+        verdict = f"**{c.verdict}**" if c.verdict != "holds" else c.verdict
+        lines.append("| " + " | ".join(map(_cell_text, (table, c.claim, c.ours, verdict, c.why))) + " |")
     return lines
 
 
@@ -240,8 +262,8 @@ def shown_figures(reports_dir: Path) -> dict[str, list[tuple[str, str]]]:
             for track, figures in FIGURES.items()}
 
 
-def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
-                figures: dict[str, list[tuple[str, str]]]) -> str:
+def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[tuple[str, str]]],
+                claim_registries: dict[str, dict[str, PaperClaim]]) -> str:
     profiles = sorted({report["profile"] for reports in tracks.values() for _, report in reports})
     parts = [
         "# Reproduced results",
@@ -251,7 +273,8 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
         "Each table shows the paper's own columns: ours with its 95% interval in brackets, the paper's number",
         "beside it where the paper prints one. Each table's heading links its own page, with the notes (set-up,",
         "differences from the paper) and every diagnostic column. Our data and sizes differ from the papers';",
-        "the notes say how. Each paper's claims, checked on our numbers, close its section.",
+        "the notes say how. Each paper's claims, quoted and checked on our numbers, close its section; our own",
+        "checks follow, apart.",
         "",
     ]
     for track, reports in tracks.items():
@@ -260,18 +283,18 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
         if paper:
             parts += [f"[*{paper.title}*]({paper.link})", ""]
         parts += [f"![{caption}]({path})\n\n*{caption}*\n" for path, caption in figures.get(track, [])]
-        claims: list[tuple[str, Claim]] = []
         for table_id, report in reports:
             parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
-            claims += [(f"[{table_id}]({track}/{table_id}.md)", c) for c in claims_of(report)]
         if paper:
-            parts += [f"### {paper.name} claims", ""]
-            parts += _claims_table(claims) if claims else ["No claim of this paper is checked yet."]
-            unchecked = [f"`{t}`" for t, report in reports if not claims_of(report)]
-            if unchecked:
-                parts += ["", "Tables without a checked claim (their notes say what they show): "
-                          + ", ".join(unchecked) + "."]
-            parts.append("")
+            claims = paper_claims(track, reports, claim_registries[track])
+            checks = our_checks(track, reports)
+            parts += [f"### {paper.name} claims", "",
+                      tally_line([c for _, c in claims]) + ". Each is the paper's sentence, quoted, decided on a paired "
+                      "test over the table's units at the 5% level (`navlab.metrics.claims`): a tie or a difference "
+                      "the test cannot tell from zero is inconclusive, never \"holds\".", "", *_claims_table(claims), ""]
+            if checks:
+                parts += [f"### {paper.name}: our own checks", "",
+                          "Diagnostics of ours, not claims of the paper; counted apart.", "", *_checks_table(checks), ""]
     missing = [f"`{paper}/{t}`" for paper, ids in TABLE_IDS.items() for t in ids
                if t not in {table_id for table_id, _ in tracks.get(paper, [])}]
     if missing:
@@ -279,8 +302,8 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
     return "\n".join(parts)
 
 
-def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
-                   figures: dict[str, list[tuple[str, str]]], page: str) -> str:
+def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[tuple[str, str]]],
+                   page: str, claim_registries: dict[str, dict[str, PaperClaim]]) -> str:
     """The front door's results: per paper its figure, a few headline numbers (ours with intervals beside
     the paper's) and the count of claim verdicts, linking ``page`` (the results page, relative)."""
     base = page.removesuffix(INDEX)
@@ -307,11 +330,12 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]],
                     printed = f"{printed}/{_num(theirs[out_of])}" if printed and theirs.get(out_of) else printed
                 parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
                              f"{ours} | {printed} |")
-        verdicts = [c.verdict for report in reports.values() for c in claims_of(report)]
-        counts = ", ".join(f"{verdicts.count(v)} {plural}" for v, plural in
-                           (("holds", "hold"), ("does not hold", "do not hold"), ("inconclusive", "inconclusive")))
+        listed = list(reports.items())
+        claims = [c for _, c in paper_claims(track, listed, claim_registries[track])]
+        checks = tally([c for _, c in our_checks(track, listed)])
         link = f"{page}#{_anchor(paper.name + ' claims')}"
-        parts += ["", f"Claims checked: {counts} ([each with its numbers and reason]({link})).", ""]
+        parts += ["", f"{tally_line(claims)} ([each quoted, with its numbers and reason]({link})); our own checks, "
+                  f"apart: {checks['holds']} of {sum(checks.values())} hold.", ""]
     parts.append(END)
     return "\n".join(parts)
 
@@ -323,9 +347,9 @@ def write_index(reports_dir: str | Path, readme: str | Path | None = None) -> Pa
     if not reports_dir.is_dir():
         raise DataError(f"{reports_dir}/ does not exist: no reports to index (--reports-dir names the folder "
                         "the notebooks wrote)")
-    tracks, figures = read_tracks(reports_dir), shown_figures(reports_dir)
+    tracks, figures, claim_registries = read_tracks(reports_dir), shown_figures(reports_dir), registries()
     out = reports_dir / INDEX
-    write_text(out, render_page(tracks, figures) + "\n")
+    write_text(out, render_page(tracks, figures, claim_registries) + "\n")
     if readme is not None:
         readme = Path(readme)
         text = readme.read_text(encoding="utf8")
@@ -333,5 +357,5 @@ def write_index(reports_dir: str | Path, readme: str | Path | None = None) -> Pa
             raise DataError(f"{readme} has no results block: add the lines\n{BEGIN}\n{END}\nwhere it goes")
         page = os.path.relpath(out, readme.parent).replace(os.sep, "/")
         head, rest = text.split(BEGIN, 1)
-        write_text(readme, head + headline_block(tracks, figures, page) + rest.split(END, 1)[1])
+        write_text(readme, head + headline_block(tracks, figures, page, claim_registries) + rest.split(END, 1)[1])
     return out

@@ -7,7 +7,7 @@ an old result under new code (issue 13). The module set is the one the caches ke
 - ``notebook run NB``: the navlab modules NB's code cells import;
 - ``artifacts build --only NAME``: the module that defines the artefact step NAME;
 - ``data build``: the modules of the data-build steps and the build itself (``navlab.pipeline.dataset``);
-- ``reports index``: the report writer.
+- ``reports index``: the report writer and each paper's claims registry.
 
 Convention for a new stage: its ``deps`` list every file this returns, or a folder that holds them
 (``lib/navlab/pacer`` covers all of pacer); ``tests/test_pipeline.py`` names any path missing.
@@ -56,7 +56,9 @@ def entry_modules(cmd: str, root: str | Path) -> list[str]:
     if (group, sub) == ("data", "build"):
         return sorted({fn.__module__ for _, fn in data_steps()} | {"navlab.pipeline.dataset"})
     if (group, sub) == ("reports", "index"):
-        return ["navlab.pipeline.results"]
+        from navlab.pipeline.results import CLAIM_MODULES
+
+        return ["navlab.pipeline.results", *CLAIM_MODULES.values()]
     raise ValueError(f"stage command {cmd!r}: no entry point known for `{group} {sub}`; add it to "
                      "navlab.pipeline.stages.entry_modules")
 
