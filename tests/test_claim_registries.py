@@ -20,11 +20,11 @@ def _normal(text: str) -> str:
     return re.sub(r"\s+", " ", text).strip().lower()
 
 
-def test_every_track_has_a_registry_with_a_paper_text_named():
-    assert set(REGISTRIES) == set(PAPERS) == set(PAPER_FILES)
+def test_every_registry_is_a_papers_with_its_text_named():
+    assert set(REGISTRIES) <= set(PAPERS) == set(PAPER_FILES)
 
 
-@pytest.mark.parametrize("track", sorted(PAPER_FILES))
+@pytest.mark.parametrize("track", sorted(REGISTRIES))
 def test_every_quote_appears_verbatim_in_the_papers_text(track):
     path = PAPER_TEXTS / PAPER_FILES[track]
     if not path.is_file():
@@ -34,7 +34,7 @@ def test_every_quote_appears_verbatim_in_the_papers_text(track):
     assert not missing, f"{track}: quotes not found verbatim in {path.name}: {missing}"
 
 
-@pytest.mark.parametrize("track", sorted(PAPER_FILES))
+@pytest.mark.parametrize("track", sorted(REGISTRIES))
 def test_every_registry_claim_is_decided_by_its_report_or_says_why_not(track):
     reports = {p.stem: read_table(p) for p in sorted((REPORTS / track).glob("*.json"))}
     for entry in REGISTRIES[track].values():
@@ -46,7 +46,7 @@ def test_every_registry_claim_is_decided_by_its_report_or_says_why_not(track):
         assert entry.key in keys, f"{track}/{entry.key}: {entry.report} does not decide it (re-run its stage)"
 
 
-@pytest.mark.parametrize("track", sorted(PAPER_FILES))
+@pytest.mark.parametrize("track", sorted(REGISTRIES))
 def test_every_papers_claim_in_a_report_is_its_registrys_word_for_word(track):
     registry = REGISTRIES[track]
     for path in sorted((REPORTS / track).glob("*.json")):

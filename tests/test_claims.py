@@ -85,7 +85,8 @@ def test_magnitude_covers_beyond_direction_only_and_against():
     assert magnitude(3.0 * den, den, 2.0, _rng()).verdict == "holds"  # beyond it, in the claimed direction
     assert magnitude(1.3 * den, den, 2.0, _rng()).verdict == "holds in direction only"
     assert magnitude(0.7 * den, den, 2.0, _rng()).verdict == "does not hold"
-    assert magnitude(den + NOISE, den, 2.0, _rng()).verdict == "inconclusive"  # a tie: covers 1
+    assert magnitude(den + NOISE, den, 2.0, _rng()).verdict == "does not hold"  # a tie rejects "2x"
+    assert magnitude(den[:5] * 2, den[:5], 2.0, _rng()).verdict == "inconclusive"  # too few units
     assert magnitude(0.4 * den, den, 0.5, _rng()).verdict == "holds"  # a claimed reduction ("half the cost")
     assert ratio_of_values(3.4, 1.0, 3.5, 0.1).verdict == "holds"
     assert ratio_of_values(1.5, 1.0, 3.5, 0.1).verdict == "holds in direction only"

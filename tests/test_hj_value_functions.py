@@ -1,15 +1,12 @@
-"""HJ-search Figs. 2 and 3 as tables: the heuristic values at the figure's robots and the orderings the paper
-reads off them, on constructed value functions whose answers are known."""
+"""HJ-search Figs. 2 and 3 as tables: the heuristic values at the figure's robots beside the paper's seconds,
+and the statements the paper reads off them, on constructed value functions whose answers are known (the
+rules behind each verdict: tests/test_hj_claims.py)."""
 
 import numpy as np
 
 from navlab.core.grid import RasterFrame
+from navlab.hj.paper import PAPER
 from navlab.hj.value_functions import fig2_table, fig3_table, heuristic_values
-from navlab.pipeline.results import claims_of
-
-
-def _report(table):
-    return {"notes": table.notes}
 
 
 def test_heuristic_values_read_each_lookup_at_each_robot():
@@ -29,21 +26,21 @@ def _values(rows):
     return {(r, n): v for r, row in enumerate(rows) for n, v in zip(names, row)}
 
 
-def test_fig2_orderings_hold_and_fail_where_the_numbers_say():
+def test_fig2_rows_beside_the_papers_seconds_and_its_statements_decided():
     good = _values([(5.0, 4.0, 3.5, 3.0), (6.0, 5.5, 3.5, 3.0)])
-    claims = claims_of(_report(fig2_table(good, ["up", "down"], slack_s=0.2)))
-    assert [c.verdict for c in claims] == ["holds"] * 4
-    # general TTR below Dist by more than the goal disc; map Dist below Dist; map TTR far below TTR; same TTR
-    bad = _values([(1.0, 2.0, 2.5, 3.0), (1.0, 2.0, 2.5, 3.0)])
-    table = fig2_table(bad, ["up", "down"], slack_s=0.2)
-    assert [c.verdict for c in claims_of(_report(table))] == ["does not hold"] * 4
-    assert [r["heading"] for r in table.rows] == ["up", "down"] and table.rows[0]["map_dist_s"] == 2.5
-    within = _values([(3.95, 4.0, 3.5, 3.0), (5.0, 4.5, 3.5, 3.0)])  # map TTR 0.05 s under: the grid's allowance
-    assert claims_of(_report(fig2_table(within, ["up", "down"], slack_s=0.2)))[2].verdict == "holds"
+    table = fig2_table(good, ["up", "down"], slack_s=0.2)
+    assert [r["heading"] for r in table.rows] == ["up", "down"] and table.rows[0]["map_dist_s"] == 3.5
+    assert [r["heading"] for r in table.paper_rows] == ["up", "down"]
+    assert [r["map_ttr_s"] for r in table.paper_rows] == [p["map_ttr_s"] for p in PAPER["fig2_heuristic_values"]]
+    assert {c.verdict for c in table.claims} == {"holds"} and all(c.source == "paper" for c in table.claims)
+    assert "Claims" not in table.notes and "prints no numbers" not in table.notes
+    # map TTR falling when reversed; map Dist below general Dist: those statements do not hold
+    bad = fig2_table(_values([(5.0, 4.0, 2.5, 3.0), (4.5, 4.5, 2.5, 3.0)]), ["up", "down"], slack_s=0.2)
+    by = {c.key: c.verdict for c in bad.claims}
+    assert by["fig2_map_ttr_rises"] == by["fig2_map_over_general"] == "does not hold"
 
 
 def test_fig3_growth_claim():
-    grows = claims_of(_report(fig3_table([0.0, 0.5, 1.0], [0.1, 0.2, 0.2])))
-    shrinks = claims_of(_report(fig3_table([0.0, 0.5, 1.0], [0.1, 0.3, 0.2])))
+    grows, shrinks = (fig3_table([0.0, 0.5, 1.0], u).claims for u in ([0.1, 0.2, 0.3], [0.1, 0.3, 0.2]))
     assert [c.verdict for c in grows] == ["holds"] and [c.verdict for c in shrinks] == ["does not hold"]
-    assert "0.50 m/s: 0.300" in shrinks[0].ours
+    assert "0.50 -> 1.00 m/s: does not hold (1.00 m/s 0.2 vs 0.50 m/s 0.3" in shrinks[0].ours

@@ -11,7 +11,7 @@ def test_table_round_trip_markdown_and_index(tmp_path):
                   [{"method": "SuReNav", "frechet": 0.5, "relaxation_iou": float("nan")}],
                   [{"method": "SuReNav", "frechet": 0.334, "relaxation_iou": 0.416},
                    {"method": "COA*", "frechet": 0.6, "relaxation_iou": 0.1}], "smoke run",
-                  claims=(Claim("SuReNav is closer to people", "does not hold", "0.5", quote="it is closer", where="Sec. VII",
+                  claims=(Claim("SuReNav is closer to people", "does not hold", "0.5", quote="closer", where="Table I",
                                 paper="0.334", why="smoke"),))
     path = write_table(tmp_path, table, track="surenav", profile="smoke", seeds=[0])
     report = read_table(path)
@@ -24,7 +24,7 @@ def test_table_round_trip_markdown_and_index(tmp_path):
     assert "SuReNav Table I" in index and "surenav/table1_human_likeness.md" in index
     json.loads(path.read_text())
     assert claims_of(report) == list(table.claims)  # typed in the JSON, read back as written
-    assert '| SuReNav is closer to people | Sec. VII | "it is closer" | 0.334 | 0.5 | **does not hold** | smoke |' in md
+    assert "| SuReNav is closer to people | 0.334 | 0.5 | **does not hold** | smoke |" in md
 
 
 def test_rows_with_the_same_key_are_an_error_not_a_lost_row(tmp_path):

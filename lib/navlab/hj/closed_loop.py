@@ -1,5 +1,5 @@
 """HJ-search paper (Hu, Siu & Chen), closed-loop tables: its printed numbers for Tables VI, VIII and IX, the
-summaries our tables use and the checks of its claims (Sec. VII-D, VIII-B, VIII-C).
+summaries our tables use (Sec. VII-D, VIII-B, VIII-C). Its claims and their verdicts: ``hj.claims``.
 
 Scoring follows the paper. A trip (one goal to the next) succeeds only without a collision, deadlock or
 timeout (an "external intervention"); a Table VI run succeeds when all of its trips do. Table VI's time
@@ -17,7 +17,6 @@ from collections.abc import Sequence
 import numpy as np
 
 from navlab.hj.paper import bootstrap_mean, wilson
-from navlab.metrics.tables import Claim
 from navlab.sim.receding_horizon import Run
 
 PAPER = {
@@ -148,79 +147,3 @@ def detour_start(run: Run, line_start, line_end, lateral_m: float) -> dict | Non
     human = np.asarray(run.humans[i])[0]
     return {"time_s": float(traj[i, 0]), "xy": traj[i, 1:3].tolist(),
             "distance_to_human_m": float(np.hypot(*(traj[i, 1:3] - human)))}
-
-
-def check_claims(table_id: str, rows: list[dict]) -> list[Claim]:
-    """The paper's claims for one closed-loop table, each holding or not, with our numbers."""
-    out = []
-
-    def claim(text, ok, detail, why=""):
-        out.append(Claim.of(text, bool(ok), detail, why))
-
-    def on_plans(rs):
-        """Where the contacts began: on an accepted plan or braking without one."""
-        known = [r for r in rs if r.get("contacts_on_plan") is not None]
-        return "" if not known else ("human contacts that began on a plan the pruner had accepted (not braking or "
-                                     "evading without one): " + ", ".join(f"{r['method']} {r['contacts_on_plan']}" for r in known))
-
-    def causes(rows_by_method):
-        return "failed trips by cause (wall hits / deadlocks / timeouts): " + ", ".join(
-            f"{m} {r.get('wall_hits')}/{r.get('deadlocks')}/{r.get('timeouts')}" for m, r in rows_by_method.items())
-
-    def t(v):
-        return "Failed" if v is None else f"{v:.1f} s"
-
-    if table_id == "table6_dynamic":
-        by = {(r["method"], r["scenario"]): r for r in rows}
-        fi, fs, ob = (by[(m, "Face-to-Face")] for m in ("FI-BRT", "FS-BRT", "OBS"))
-        claim("FI-BRT avoids the head-on collisions that FS-BRT and OBS do not (Face-to-Face)",
-              fi["collisions"] == 0 and fi["success"] == fi["runs"] and fs["success"] < fs["runs"]
-              and ob["success"] < ob["runs"],
-              f"{fi['success']}/{fi['runs']} vs {fs['success']}/{fs['runs']} vs {ob['success']}/{ob['runs']}; "
-              "paper 5/5 vs 0/5 vs 0/5",
-              (f"FS-BRT detoured {fs['detour_m']:.2f} m before the human (FI-BRT {fi['detour_m']:.2f} m): re-planning "
-               "at 12 Hz with the feasible-set test alone already turns early enough on this head-on line"
-               if fs["success"] == fs["runs"] and fs.get("detour_m") and fi.get("detour_m") else on_plans((fi, fs))))
-        zz = {m: by[(m, "Zig-Zag")] for m in ("FI-BRT", "FS-BRT", "OBS")}
-        times = {m: r["time_s"] for m, r in zz.items() if r["time_s"] is not None}
-        why_zz = "a method's time counts only its runs without contact" + "; ".join(["", on_plans(zz.values())])
-        claim("OBS is the fastest on Zig-Zag but collides (time over all runs, contacts included)",
-              zz["OBS"]["time_all_s"] == min(r["time_all_s"] for r in zz.values()) and zz["OBS"]["collisions"] > 0,
-              ", ".join(f"{m} {t(r['time_all_s'])} {r['collisions']} contacts" for m, r in zz.items()),
-              on_plans(zz.values()))
-        claim("FS-BRT is faster than FI-BRT on Zig-Zag (forward invariance costs time)",
-              "FS-BRT" in times and "FI-BRT" in times and times["FS-BRT"] < times["FI-BRT"],
-              f"{t(zz['FS-BRT']['time_s'])} vs {t(zz['FI-BRT']['time_s'])}; paper 31.17 vs 39.85 s", why_zz)
-    elif table_id == "table8_rooms":
-        by = {(r["method"], r["room"]): r for r in rows}
-        dense = {m: by[(m, "Dense Room")] for m in ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")}
-        best = dense.pop("TTR + BRT")
-        claim("in the Dense Room only TTR + BRT succeeds on every trip",
-              best["success"] == best["trips"] and all(r["success"] < r["trips"] for r in dense.values()),
-              f"TTR + BRT {best['success']}/{best['trips']}, "
-              + ", ".join(f"{m} {r['success']}/{r['trips']}" for m, r in dense.items()) + "; paper 6/6 vs 0, 1, 0",
-              causes({"TTR + BRT": best, **dense}))
-        hall = {m: by[(m, "Long Hallway")] for m in ("Dist + OBS", "Dist + BRT", "TTR + OBS", "TTR + BRT")}
-        claim("in the Long Hallway TTR succeeds more often than Dist under both pruners",
-              hall["TTR + OBS"]["success"] > hall["Dist + OBS"]["success"]
-              and hall["TTR + BRT"]["success"] > hall["Dist + BRT"]["success"],
-              ", ".join(f"{m} {r['success']}/{r['trips']}" for m, r in hall.items()) + "; paper 2, 2, 9, 9 of 9",
-              ("Dist fails no trip here: within our per-re-plan budget and the loop's rules (notes) the anytime "
-               "search finds the hallway's route from either heuristic (the paper's time budget is not in its text)"
-               if all(hall[m]["success"] == hall[m]["trips"] for m in ("Dist + OBS", "Dist + BRT")) else causes(hall)))
-    elif table_id == "table9_humans":
-        for n in sorted({r["humans"] for r in rows}):
-            by = {r["method"]: r for r in rows if r["humans"] == n}
-            claim(f"{n} human(s): FI-BRT and FS-BRT never collide, OBS does",
-                  by["FI-BRT"]["collisions"] == 0 and by["FS-BRT"]["collisions"] == 0 and by["OBS"]["collisions"] > 0,
-                  ", ".join(f"{m} {r['collisions']}" for m, r in by.items()),
-                  on_plans(by.values()))
-            claim(f"{n} human(s): completion time FI-BRT > FS-BRT > OBS",
-                  by["FI-BRT"]["time_s"] > by["FS-BRT"]["time_s"] > by["OBS"]["time_s"],
-                  ", ".join(f"{m} {r['time_s']:.1f} s" for m, r in by.items()),
-                  "the time includes failed trips (a deadlock counts its whole wait before the intervention); failed trips "
-                  "(collision / deadlock / timeout): " + ", ".join(
-                      f"{m} {r.get('collision')}/{r.get('deadlock')}/{r.get('timeout')}" for m, r in by.items()))
-    else:
-        raise ValueError(f"check_claims: no closed-loop claims for {table_id!r}")
-    return out

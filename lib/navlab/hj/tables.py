@@ -1,17 +1,17 @@
-"""HJ-search Tables I-IX and the sensitivity curves as report tables: our rows, the paper's, the notes and the claim verdicts.
+"""HJ-search Tables I-IX and the sensitivity curves as report tables: our rows, the paper's, the notes and the claims.
 
-The notebooks only run the searches and the timings and hand the results here; what the notes say and
-which of the paper's claims hold (``hj.paper`` and ``hj.closed_loop``'s ``check_claims``)
-are decided in this module.
+The notebooks only run the searches and the timings and hand the results here, per unit (tasks, runs);
+this module lays out the rows and the notes (set-up and differences only) and hands the per-unit results
+to ``hj.claims``, which decides the paper's claims and our own checks.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
 
 from navlab.core.params.hj import PlannerParams
 from navlab.core.params.hj_dynamic import DynamicParams
+from navlab.hj import claims as hj_claims
 from navlab.hj import closed_loop as hj_closed_loop
 from navlab.hj.paper import (
     ANA_COLUMNS,
@@ -20,20 +20,15 @@ from navlab.hj.paper import (
     ana_rows,
     anytime_budget,
     astar_rows,
-    check_claims,
     failure_modes,
     summarise,
 )
-from navlab.hj.sensitivity import (
-    BUDGET_COLUMNS,
-    LOOP_COLUMNS,
-    budget_claims,
-    budget_rows,
-    loop_claims,
-    loop_rows,
-)
-from navlab.hj.state_lattice_runs import DIJKSTRA, DIST, TOLERANCE_S, TTR, StateLatticeRuns, same_cost
-from navlab.metrics.tables import Claim, Table
+from navlab.hj.scenarios import ROOM_NAMES
+from navlab.hj.sensitivity import BUDGET_COLUMNS, LOOP_COLUMNS, budget_rows, loop_rows
+from navlab.hj.state_lattice_runs import TTR, StateLatticeRuns
+from navlab.metrics.claims import Claim
+from navlab.metrics.tables import Table
+from navlab.sim.receding_horizon import Run
 
 TABLE7_COLUMNS = ["component", "states", "total_s", "per_call_us", "per_state_ns", "in_search_total_s",
                   "in_search_evaluated_states", "in_search_per_state_ns", "in_search_cpu_per_state_ns",
@@ -61,14 +56,10 @@ def _rows(results: Mapping[str, list], seed: int) -> list[dict]:
     return rows
 
 
-def _search_table(table_id: str, rows: list[dict], shown: list[dict], setup: str,
-                  claim_rows: list[dict] | None = None, claims: list[Claim] | None = None) -> Table:
-    """Tables I-V: the ``shown`` rows (``astar_rows`` or ``ana_rows`` of ``rows``), the claims ``check_claims``
-    decides on ``claim_rows`` (default: ``shown``) unless ``claims`` are given, and notes: the set-up, the
-    claims, the failure modes."""
-    if claims is None:
-        claims = check_claims(table_id, shown if claim_rows is None else claim_rows)
-    notes = setup + " Claims: " + "; ".join(map(str, claims)) + ". " + failure_modes(rows)
+def _search_table(table_id: str, rows: list[dict], shown: list[dict], setup: str, claims: list[Claim]) -> Table:
+    """Tables I-V: the ``shown`` rows (``astar_rows`` or ``ana_rows`` of ``rows``), the claims, and notes: the
+    set-up and the failure modes."""
+    notes = setup + " " + failure_modes(rows)
     columns = ASTAR_COLUMNS if table_id in ("table1_heuristics_astar", "table3_pruning_astar") else ANA_COLUMNS
     return Table(table_id, SEARCH_REFS[table_id], columns, shown, PAPER[table_id], notes, claims)
 
@@ -92,48 +83,8 @@ def table1(results: Mapping[str, list], excess: Mapping[str, float], seed: int, 
              "found clears the obstacles); Dijkstra (h = 0), A* w/ Dist (distance to the goal disc / v_max) and "
              f"A* w/ TTR (the TTR grid less its largest excess over the open room's exact cost-to-go, "
              f"{max(deltas, default=0.0):.3f} s; h = 0 on goal states); cost = duration in s.")
-    claims = table1_claims(shown, lattice_shown, lattice)
-    return _search_table("table1_heuristics_astar", rows + lattice_rows, shown + lattice_shown, setup, claims=claims)
-
-
-def table1_claims(shown: list[dict], lattice_shown: list[dict], lattice: StateLatticeRuns) -> list[Claim]:
-    """Table I's claims: "TTR cuts A* expansions" and the failure check decided on the continuous-lattice
-    rows ``shown`` (``check_claims``), the expansions on the state lattice (``lattice_shown``) stated beside;
-    "same optimal cost" decided on the state lattice: both A* return Dijkstra's cost on every task
-    (|difference| <= ``TOLERANCE_S``), the continuous lattice's Dist vs TTR mean costs stated beside."""
-    continuous = {c.claim: c for c in check_claims("table1_heuristics_astar", shown)}
-    by = {r["method"]: r for r in lattice_shown}
-    nodes = (f"; state lattice: A* w/ TTR {by[TTR]['nodes']:.0f} vs A* w/ Dist {by[DIST]['nodes']:.0f} vs "
-             f"Dijkstra {by[DIJKSTRA]['nodes']:.0f} mean expansions")
-    expansions = continuous["TTR cuts A* expansions"]
-    expansions = replace(expansions, ours=expansions.ours + nodes)
-    reference = lattice.results[DIJKSTRA]
-    n = len(reference)
-    agree = {m: sum(same_cost(d, r) for d, r in zip(reference, lattice.results[m], strict=True)) for m in (DIST, TTR)}
-    ok = all(v == n for v in agree.values())
-    costs = ", ".join("none" if not r.found else f"{r.cost:.3f}" for r in reference)
-    cont = {r["method"]: r for r in shown}
-    d, t = cont["A* w/ Dist"]["cost"], cont["A* w/ TTR"]["cost"]
-    differs = d is None or t is None or abs(t - d) >= 1e-6
-    ours = (f"state lattice: A* w/ Dist and A* w/ TTR return Dijkstra's cost (within {TOLERANCE_S:g} s) on "
-            f"{agree[DIST]}/{n} and {agree[TTR]}/{n} tasks; Dijkstra's costs {costs} s, mean "
-            f"{by[DIJKSTRA]['cost']:.3f} s (A* w/ Dist {by[DIST]['cost']:.3f}, A* w/ TTR {by[TTR]['cost']:.3f}). "
-            f"Paper-style continuous lattice: A* w/ TTR {_s(t)} vs A* w/ Dist {_s(d)} s mean"
-            + ("; they differ because that lattice keeps one node per (x, y, v, θ) cell, the first best one to "
-               "reach it (Smac-style duplicate detection), so A* is optimal only over those representatives, and "
-               "another heuristic expands in another order and keeps others; on the state lattice every "
-               "primitive ends on a lattice state, so the search graph is fixed and A* with an admissible "
-               "heuristic is exact" if differs else ", the same"))
-    bad = [m for m in (DIST, TTR) if agree[m] < n]
-    why = "; ".join(f"{m} differs from Dijkstra on {n - agree[m]} of {n} task(s)" for m in bad) + (
-        ": its heuristic overestimates the lattice's cost-to-go there (not admissible)")
-    same = Claim.of("same optimal cost", ok, ours, why=why)
-    rest = [c for name, c in continuous.items() if name not in ("TTR cuts A* expansions", "same optimal cost")]
-    return [expansions, same, *rest]
-
-
-def _s(value: float | None) -> str:
-    return "none" if value is None else f"{value:.3f}"
+    claims = hj_claims.table1_claims(results, lattice, seed)
+    return _search_table("table1_heuristics_astar", rows + lattice_rows, shown + lattice_shown, setup, claims)
 
 
 def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, max_expansions: int) -> Table:
@@ -143,7 +94,8 @@ def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, 
              "solution, cost = the final (best) solution's cost. *_common: over tasks both solved; *_all: over "
              "each method's successes; 95% bootstrap CIs over tasks, Wilson for success. Our car cannot reverse "
              "(v in [0, v_max], as the HJ grids), so re-orientation is by turning arcs. " + excess_note(excess))
-    return _search_table("table2_heuristics_anastar", rows, ana_rows(rows), setup)
+    return _search_table("table2_heuristics_anastar", rows, ana_rows(rows), setup,
+                         hj_claims.search_claims("table2_heuristics_anastar", results, seed))
 
 
 def table7(rows: Sequence[dict], calls: int, grid_shapes: tuple[tuple[int, ...], tuple[int, ...]]) -> Table:
@@ -153,12 +105,12 @@ def table7(rows: Sequence[dict], calls: int, grid_shapes: tuple[tuple[int, ...],
                    "per_call_us": r["total_s"] / PAPER_CALLS * 1e6,
                    "per_state_ns": r["total_s"] / PAPER_CALLS / r["states"] * 1e9}
                   for r in PAPER["table7_compute"]]
-    claims = check_claims("table7_compute", list(rows))
+    claims = hj_claims.table7_claims(list(rows))
     notes = (f"{calls} calls per component (paper: 10,000; its totals scaled to our call count). Our grids: "
              f"TTR {grid_shapes[0]}, BRT {grid_shapes[1]}. Wall-clock on the machine that ran "
              "this notebook (shared CPUs inflate it) except in_search_cpu_per_state_ns (CPU time of the compiled loop "
              "the search runs, per state it evaluated; a pruner stops a segment at its first failing sample); "
-             "single-run timings, no CI. Claims: " + "; ".join(map(str, claims)))
+             "single-run timings, no CI.")
     return Table("table7_compute", "HJ-search Table VII", TABLE7_COLUMNS, list(rows), paper_rows, notes, claims)
 
 
@@ -171,7 +123,8 @@ def table3(results: Mapping[str, list], margin: float, margin_report: Mapping, s
              f"{m['missed_unsafe_nodes']} such nodes). Costs: dt*(1 + w*exp(-decay*clearance)), not Nav2's "
              "0-252 scale, so magnitudes differ from the paper. time_s: our compiled search. Paper node counts "
              "are blank in its text (it states a 15.1% reduction).")
-    return _search_table("table3_pruning_astar", rows, astar_rows(rows), setup)
+    return _search_table("table3_pruning_astar", rows, astar_rows(rows), setup,
+                         hj_claims.search_claims("table3_pruning_astar", results, seed))
 
 
 def table4(results: Mapping[str, list], margin: float, seed: int, max_expansions: int) -> Table:
@@ -180,7 +133,8 @@ def table4(results: Mapping[str, list], margin: float, seed: int, max_expansions
     setup = (f"ANA* with the Dist heuristic; BRT margin {margin:.4f}. {anytime_budget(dict(results), max_expansions)} "
              "nodes = expansions to the first solution, cost = final solution; success needs the densified check. "
              "95% bootstrap CIs over tasks, Wilson for success.")
-    return _search_table("table4_pruning_anastar", rows, ana_rows(rows), setup)
+    return _search_table("table4_pruning_anastar", rows, ana_rows(rows), setup,
+                         hj_claims.search_claims("table4_pruning_anastar", results, seed))
 
 
 def table5(results: Mapping[str, list], margin: float, seed: int, planner: PlannerParams) -> Table:
@@ -190,21 +144,22 @@ def table5(results: Mapping[str, list], margin: float, seed: int, planner: Plann
     setup = (f"{t5.pairs} pairs drawn with seed hj.seed, blocked line of sight or >= {t5.min_distance_m} m apart; "
              f"BRT margin {margin:.4f}. {anytime_budget(dict(results), planner.anastar_max_expansions)} 95% bootstrap "
              "CIs over tasks, Wilson for success.")
-    return _search_table("table5_static_general", rows, ana_rows(rows), setup, claim_rows=rows)
+    return _search_table("table5_static_general", rows, ana_rows(rows), setup,
+                         hj_claims.search_claims("table5_static_general", results, seed))
 
 
-def _loop_table(table_id: str, paper_ref: str, columns: list[str], rows: Sequence[dict], setup: str) -> Table:
-    """Tables VI, VIII, IX: the closed-loop rows, the claims ``hj.closed_loop.check_claims`` decides on
-    them, and notes: the set-up, then the claims."""
-    claims = hj_closed_loop.check_claims(table_id, list(rows))
-    return Table(table_id, paper_ref, columns, list(rows), hj_closed_loop.PAPER[table_id],
-                 setup + "Claims: " + "; ".join(map(str, claims)), claims)
+def _loop_table(table_id: str, paper_ref: str, columns: list[str], rows: Sequence[dict], setup: str,
+                claims: list[Claim]) -> Table:
+    """Tables VI, VIII, IX: the closed-loop rows beside the paper's, the set-up as notes, the claims."""
+    return Table(table_id, paper_ref, columns, list(rows), hj_closed_loop.PAPER[table_id], setup.rstrip(), claims)
 
 
-def table6(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float]) -> Table:
-    """Table VI / Fig. 8: the closed-loop rows (``hj.closed_loop.summarise_runs``); ``rules``: the
-    policy's re-plan rules (``ClosedLoop.rules``); ``speed``: ``hj.closed_loop.timing`` with the
-    run's ``wall_s`` and ``cpu_s``."""
+def table6(rows: Sequence[dict], runs: Mapping[tuple[str, str], Sequence[Run]], dynamic: DynamicParams, rules: str,
+           speed: Mapping[str, float]) -> Table:
+    """Table VI / Fig. 8: the closed-loop rows (``hj.closed_loop.summarise_runs``) and the runs behind them
+    ({(method, scenario): runs}, as ``hj.scenarios.run_cells`` returns them), on which the claims are
+    decided; ``rules``: the policy's re-plan rules (``ClosedLoop.rules``); ``speed``:
+    ``hj.closed_loop.timing`` with the run's ``wall_s`` and ``cpu_s``."""
     t6, c = dynamic.table6, dynamic.closed_loop
     setup = (f"Simulated, as in the paper; our coordinates (params.yaml hj.dynamic.table6) in an empty 9.6 x 5.4 m room, "
              f"walls pruned by OBS in every row. {t6.runs} runs per cell, run r seeded {dynamic.seed}+r; exact poses (human "
@@ -219,7 +174,8 @@ def table6(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"{speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall on the shared 2-core machine "
              f"({speed['simulated_s'] / speed['wall_s']:.1f}x real time, {speed['cpu_s']:.0f} s CPU); re-plan median "
              f"{speed['plan_median_ms']:.1f} ms. ")
-    return _loop_table("table6_dynamic", "HJ-search Table VI, Fig. 8", TABLE6_COLUMNS, rows, setup)
+    return _loop_table("table6_dynamic", "HJ-search Table VI, Fig. 8", TABLE6_COLUMNS, rows, setup,
+                       hj_claims.table6_claims(runs, dynamic))
 
 
 TABLE8_COLUMNS = ["method", "room", "success", "trips", "success_rate", "success_rate_ci", "time_s", "wall_hits",
@@ -228,10 +184,11 @@ TABLE9_COLUMNS = ["method", "setting", "humans", "runs", "time_s", "time_s_ci", 
                   "success", "trips", "success_rate", "success_rate_ci", "collision", "deadlock", "timeout"]
 
 
-def table8(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float],
-           dense_plan_median_ms: float) -> Table:
-    """Table VIII: the room patrols (``hj.closed_loop.summarise_trips`` rows); ``speed`` as for
-    ``table6``; ``dense_plan_median_ms``: the Dense Room's median re-plan time."""
+def table8(rows: Sequence[dict], runs: Mapping[tuple[str, str], Sequence[Run]], dynamic: DynamicParams, rules: str,
+           speed: Mapping[str, float], dense_plan_median_ms: float) -> Table:
+    """Table VIII: the room patrols (``hj.closed_loop.summarise_trips`` rows) and the runs behind them
+    ({(method, room): runs}, rooms by their ``hj.scenarios.ROOM_NAMES`` key, as ``run_cells`` returns them);
+    ``speed`` as for ``table6``; ``dense_plan_median_ms``: the Dense Room's median re-plan time."""
     t8, c = dynamic.table8, dynamic.closed_loop
     setup = (f"Simulated (the paper: a real QBot). Rooms and goals: navlab.maps.rooms (our layouts of Fig. 9), "
              f"{t8.cycles} cycles, {t8.runs} seeded run(s) per cell (seeds {dynamic.seed}+r) pooled; pose noise "
@@ -245,11 +202,15 @@ def table8(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"Speed: {speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall ({speed['cpu_s']:.0f} s CPU) "
              f"on the shared 2-core machine; Dense Room re-plan median {dense_plan_median_ms:.1f} ms "
              f"(target <= 83 ms). ")
-    return _loop_table("table8_rooms", "HJ-search Table VIII", TABLE8_COLUMNS, rows, setup)
+    by_room = {(method, ROOM_NAMES[room]): cell for (method, room), cell in runs.items()}
+    return _loop_table("table8_rooms", "HJ-search Table VIII", TABLE8_COLUMNS, rows, setup,
+                       hj_claims.table8_claims(by_room, dynamic.seed))
 
 
-def table9(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapping[str, float]) -> Table:
-    """Table IX: the patrols among humans (``hj.closed_loop.summarise_patrols`` rows)."""
+def table9(rows: Sequence[dict], runs: Mapping[tuple[str, int], Sequence[Run]], dynamic: DynamicParams, rules: str,
+           speed: Mapping[str, float]) -> Table:
+    """Table IX: the patrols among humans (``hj.closed_loop.summarise_patrols`` rows) and the runs behind
+    them ({(method, humans): runs}, as ``hj.scenarios.run_cells`` returns them)."""
     t9, c = dynamic.table9, dynamic.closed_loop
     setup = (f"Simulated (the paper: a real QBot and people). Our set-up (hj.dynamic.table9): the open 9.6 x 5.4 m room, "
              f"robot goals {list(t9.robot_goals)} patrolled {t9.cycles} cycles, humans patrolling "
@@ -261,13 +222,14 @@ def table9(rows: Sequence[dict], dynamic: DynamicParams, rules: str, speed: Mapp
              f"collision/deadlock/timeout: failed trips by cause. {rules} Speed: {speed['simulated_s']:.0f} s simulated "
              f"in {speed['wall_s']:.0f} s wall ({speed['simulated_s'] / speed['wall_s']:.1f}x real time, "
              f"{speed['cpu_s']:.0f} s CPU, shared 2-core machine). ")
-    return _loop_table("table9_humans", "HJ-search Table IX", TABLE9_COLUMNS, rows, setup)
+    return _loop_table("table9_humans", "HJ-search Table IX", TABLE9_COLUMNS, rows, setup,
+                       hj_claims.table9_claims(runs, dynamic.seed))
 
 
 def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
     """Table VIII as a curve of ANA*'s expansions per re-plan (``hj.sweeps.run_sweep`` results)."""
     rows = budget_rows(results)
-    claims = budget_claims(rows)
+    claims = hj_claims.budget_claims(rows)
     t8, c = dynamic.table8, dynamic.closed_loop
     notes = (f"Table VIII (rooms, routes, {t8.cycles} cycles, pose noise {t8.pose_noise_m} m; one seeded run per "
              f"point, seed {dynamic.seed}, where the table pools {t8.runs}) re-run with ANA* given each budget "
@@ -276,7 +238,7 @@ def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
              f"resumed, while it waits (neither room has humans), so a search from rest gets one budget per period "
              f"waited, up to the {c.deadlock_s:g} s deadlock timer. "
              f"Success: trips without a wall hit, deadlock or timeout, Wilson 95% CIs. The paper states a time "
-             f"budget on its robot, not an expansion count. {rules} Claims: " + "; ".join(map(str, claims)))
+             f"budget on its robot, not an expansion count. {rules}")
     return Table("sensitivity_budget", "HJ-search Table VIII, as a curve", BUDGET_COLUMNS, rows, [], notes, claims)
 
 
@@ -285,14 +247,14 @@ def sensitivity_loop(results, dynamic: DynamicParams) -> Table:
     varied with the other two at the table's own values (``loop_own``)."""
     rows = loop_rows(results)
     own = loop_own(dynamic)
-    claims = loop_claims(rows, own)
+    claims = hj_claims.loop_claims(rows, own)
     notes = (f"Table VI (Face-to-Face and Zig-Zag, {dynamic.table6.runs} seeded runs per cell) re-run along one setting "
              f"at a time, the other two at the table's own ({own[0]:g} Hz, {own[1]:g} m, {own[2]:g} s): the "
              f"re-planning rate (ANA*'s {dynamic.closed_loop.max_expansions} expansions per re-plan at every rate), the "
              f"std of the observed human position, and how far ahead FI-/FS-BRT prune the humans along their "
              f"observed velocity (0 s: where seen, the paper's text). Success: every trip without contact, "
              f"deadlock or timeout, Wilson 95% CIs; collisions: human contacts over all runs (contacts_on_plan: "
-             f"those that began on a plan the pruner had accepted). Claims: " + "; ".join(map(str, claims)))
+             f"those that began on a plan the pruner had accepted).")
     return Table("sensitivity_loop", "HJ-search Table VI, as curves", LOOP_COLUMNS, rows, [], notes, claims)
 
 

@@ -15,7 +15,8 @@ paired wherever the methods ran on the same units, at the 5% level:
   whole 95% interval of the paired difference lies inside it;
 - a magnitude ("about 2x", "44% above", :func:`magnitude`): holds when the interval of our ratio covers
   the paper's value or lies beyond it in the claimed direction; an interval past 1 but short of the
-  paper's value is its own verdict, *holds in direction only*;
+  paper's value is its own verdict, *holds in direction only*; an interval short of it that reaches 1
+  rejects the stated magnitude: does not hold;
 - a deterministic quantity (a value function at a state, a count over every unit):
   :func:`exact_comparison` / :func:`every`, no sampling, but still strict: equal is never "holds".
 
@@ -215,6 +216,19 @@ def best_of(values: Mapping[str, Sequence], claimed: str, direction: Direction, 
     return Test(verdict, " | ".join(f"vs {m}: {t.verdict} ({t.evidence})" for m, t in tests.items()))
 
 
+def all_of(parts: Mapping[str, Test]) -> Test:
+    """One verdict for a claim stated for every part (every city, both metrics, each pruner, each pair of an
+    ordering): holds if every part holds, does not hold if any part does not, holds in direction only if
+    every part holds at least in direction, else inconclusive. The evidence names each part's."""
+    if not parts:
+        raise ValueError("all_of: no parts to combine")
+    verdicts = {t.verdict for t in parts.values()}
+    verdict: Verdict = ("does not hold" if "does not hold" in verdicts else "holds" if verdicts == {"holds"} else
+                        "holds in direction only" if verdicts <= {"holds", "holds in direction only"} else
+                        "inconclusive")
+    return Test(verdict, " | ".join(f"{part}: {t.verdict} ({t.evidence})" for part, t in parts.items()))
+
+
 def on_par(a, b, margin: float, rng: np.random.Generator, unit: str = "units",
            names: tuple[str, str] = ("A", "B")) -> Test:
     """Equivalence within ``margin`` (stated in the claim record): holds if the whole 95% interval of the
@@ -237,7 +251,7 @@ def magnitude(numerators, denominators, paper_ratio: float, rng: np.random.Gener
     """A stated ratio ("about 2x", "44% above": ``paper_ratio`` 2.0, 1.44) of mean(numerators) to
     mean(denominators), resampling the paired units: holds when the 95% interval covers the paper's value
     or lies beyond it; *holds in direction only* when it lies past 1 on the paper's side but short of its
-    value; does not hold when it lies on the other side of 1; else inconclusive."""
+    value; else it excludes the stated magnitude: does not hold (inconclusive only with too few units)."""
     num, den = _paired(numerators, denominators)
     n = len(num)
     ratio = num.mean() / den.mean() if den.mean() != 0 else np.inf
@@ -251,12 +265,14 @@ def magnitude(numerators, denominators, paper_ratio: float, rng: np.random.Gener
 
 
 def _ratio_verdict(lo: float, hi: float, paper_ratio: float) -> Verdict:
+    """Covers the paper's ratio or lies beyond it: holds; short of it but wholly past 1: holds in direction
+    only; otherwise the interval excludes the stated magnitude (a tie included): does not hold."""
     up = paper_ratio > 1
     if lo <= paper_ratio <= hi or (lo > paper_ratio if up else hi < paper_ratio):
         return "holds"
     if (lo > 1) if up else (hi < 1):
         return "holds in direction only"
-    return "does not hold" if ((hi < 1) if up else (lo > 1)) else "inconclusive"
+    return "does not hold"
 
 
 def ratio_of_values(value: float, reference: float, paper_ratio: float, tolerance: float,

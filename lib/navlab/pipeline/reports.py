@@ -1,7 +1,7 @@
 """Report files: the contract between notebooks, the README, DVC metrics and reviewers (DESIGN.md).
 
 Each reproduced table is ``reports/<paper>/<table_id>.json`` (our numbers beside the paper's) and a
-Markdown twin (the paper's claims and, apart, our own checks as tables); ``pipeline.results.write_index`` gathers them into the results
+Markdown twin (the claims as a table); ``pipeline.results.write_index`` gathers them into the results
 page. Beyond the DESIGN.md keys, the JSON carries the typed ``claims`` and ``metrics``: our rows again,
 keyed by row, because `dvc metrics show/diff` only read numbers out of mappings, not out of ``rows``.
 """
@@ -132,26 +132,10 @@ def to_markdown(report: dict[str, Any]) -> str:
             cells.append(f"**{a}** / {b}")
         lines.append("| " + " | ".join(cells) + " |")
     lines += ["", report["notes"], ""]
-    return "\n".join(lines + claims_markdown(report.get("claims") or []))
-
-
-def claims_markdown(claims: Sequence[dict]) -> list[str]:
-    """The paper's claims (quoted, where they stand, the paper's numbers) and, apart, our own checks."""
-    def cell(text: str) -> str:
-        return (text or "—").replace("|", "\\|").replace("\n", " ")
-
-    paper = [c for c in claims if c.get("source", "paper") == "paper"]
-    own = [c for c in claims if c.get("source") == "ours"]
-    lines: list[str] = []
-    if paper:
-        lines += ["The paper's claims:", "", "| claim | where | the paper says | paper | ours | verdict | why |",
-                  "|---|---|---|---|---|---|---|"]
-        lines += [f"| {cell(c['claim'])} | {cell(c.get('where'))} | \"{cell(c.get('quote'))}\" | {cell(c['paper'])} | "
-                  f"{cell(c['ours'])} | **{c['verdict']}** | {cell(c['why'])} |" for c in paper]
+    if report.get("claims"):
+        lines += ["| claim | paper | ours | verdict | why |", "|---|---|---|---|---|"]
+        lines += [f"| {c['claim']} | {c['paper'] or '—'} | {c['ours']} | **{c['verdict']}** | {c['why'] or '—'} |"
+                  for c in report["claims"]]
         lines.append("")
-    if own:
-        lines += ["Our own checks (not the paper's claims):", "", "| check | ours | verdict | why |", "|---|---|---|---|"]
-        lines += [f"| {cell(c['claim'])} | {cell(c['ours'])} | **{c['verdict']}** | {cell(c['why'])} |" for c in own]
-        lines.append("")
-    return lines
+    return "\n".join(lines)
 
