@@ -43,10 +43,13 @@ def test_the_front_door_block_is_current():
 
 def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_figures():
     page = (REPORTS / "README.md").read_text(encoding="utf8")
-    for paper in PAPERS.values():
+    registered = registries()
+    for track, paper in PAPERS.items():
         section = page.split(f"## {paper.name}\n", 1)[1].split("\n## ", 1)[0]
         assert f"### {paper.name} claims\n\n" in section
-        assert "| table | claim | where | the paper says | paper | ours | verdict | why |" in section
+        header = ("| table | claim | where | the paper says | paper | ours | verdict | why |" if track in registered
+                  else "| table | earlier check | ours | verdict then | why |")  # its re-run under the registry waits
+        assert header in section, track
     assert "/ —" not in page and "/ —" not in Path("README.md").read_text(encoding="utf8")
     for readme, base in ((REPORTS / "README.md", REPORTS), (Path("README.md"), Path("."))):
         images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme.read_text(encoding="utf8"))

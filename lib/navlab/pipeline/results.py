@@ -97,8 +97,9 @@ def earlier_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
     return [c for c in report.get("claims") or [] if "source" not in c]
 
 
-# The tracks whose claims registry has landed (each module holds CLAIMS); PACER's joins when its stages re-run.
-CLAIM_MODULES = {"surenav": "navlab.surenav.claims", "hj": "navlab.hj.claims"}
+# The tracks whose claims registry has landed (each module holds CLAIMS); SuReNav and PACER join when their
+# stages re-run under it (branches issue58-surenav, issue58-pacer).
+CLAIM_MODULES = {"hj": "navlab.hj.claims"}
 
 
 def registries() -> dict[str, dict[str, PaperClaim]]:
