@@ -97,8 +97,8 @@ def earlier_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
     return [c for c in report.get("claims") or [] if "source" not in c]
 
 
-# The tracks whose claims registry has landed (each module holds CLAIMS); SuReNav and PACER join when their
-# stages re-run under it (branches issue58-surenav, issue58-pacer).
+# The tracks whose claims registry has landed (each module holds CLAIMS). SuReNav's and PACER's are written
+# (commits 37d2759 and ad25ba8) and join when their stages re-run under them.
 CLAIM_MODULES = {"hj": "navlab.hj.claims"}
 
 
