@@ -221,25 +221,27 @@ def table_markdown(report: dict[str, Any], track: str) -> list[str]:
     return [*lines, "", " ".join(notes)] if notes else lines
 
 
-def _cell_text(text: str) -> str:
-    return (text or "").replace("|", "\\|").replace("\n", " ")
+def _markdown_table(header: tuple[str, ...], rows: list[tuple[str, ...]]) -> list[str]:
+    """A Markdown table, each cell's pipes escaped and newlines flattened."""
+    def line(cells):
+        return "| " + " | ".join((c or "").replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
+
+    return [line(header), "|" + "---|" * len(header), *map(line, rows)]
+
+
+def _verdict(c: Claim) -> str:
+    return f"**{c.verdict}**" if c.verdict != "holds" else c.verdict
 
 
 def _claims_table(claims: list[tuple[str, Claim]]) -> list[str]:
-    lines = ["| table | claim | where | the paper says | paper | ours | verdict | why |", "|---|---|---|---|---|---|---|---|"]
-    for table, c in claims:
-        verdict = f"**{c.verdict}**" if c.verdict != "holds" else c.verdict
-        cells = (table, c.claim, c.where, f'"{c.quote}"', c.paper, c.ours, verdict, c.why)
-        lines.append("| " + " | ".join(map(_cell_text, cells)) + " |")
-    return lines
+    return _markdown_table(("table", "claim", "where", "the paper says", "paper", "ours", "verdict", "why"),
+                           [(table, c.claim, c.where, f'"{c.quote}"', c.paper, c.ours, _verdict(c), c.why)
+                            for table, c in claims])
 
 
 def _checks_table(checks: list[tuple[str, Claim]]) -> list[str]:
-    lines = ["| table | check | ours | verdict | why |", "|---|---|---|---|---|"]
-    for table, c in checks:
-        verdict = f"**{c.verdict}**" if c.verdict != "holds" else c.verdict
-        lines.append("| " + " | ".join(map(_cell_text, (table, c.claim, c.ours, verdict, c.why))) + " |")
-    return lines
+    return _markdown_table(("table", "check", "ours", "verdict", "why"),
+                           [(table, c.claim, c.ours, _verdict(c), c.why) for table, c in checks])
 
 
 EARLIER = ("{name}'s claims registry and strict verdicts (issue 58) land with the re-run of its stages; until then "
@@ -248,12 +250,9 @@ EARLIER = ("{name}'s claims registry and strict verdicts (issue 58) land with th
 
 
 def _earlier_table(track: str, reports: list[tuple[str, dict[str, Any]]]) -> list[str]:
-    lines = ["| table | earlier check | ours | verdict then | why |", "|---|---|---|---|---|"]
-    for table_id, report in reports:
-        for c in earlier_checks(report):
-            cells = (_link(track, table_id), c["claim"], str(c.get("ours") or ""), c["verdict"], c.get("why") or "")
-            lines.append("| " + " | ".join(map(_cell_text, cells)) + " |")
-    return lines
+    return _markdown_table(("table", "earlier check", "ours", "verdict then", "why"),
+                           [(_link(track, table_id), c["claim"], str(c.get("ours") or ""), c["verdict"],
+                             c.get("why") or "") for table_id, report in reports for c in earlier_checks(report)])
 
 
 def _anchor(heading: str) -> str:
