@@ -1,4 +1,5 @@
-"""The SuReNav benchmark on the smoke dataset: training-only priors, episodes, the runner, the claims."""
+"""The SuReNav benchmark on the smoke dataset: training-only priors, episodes, the runner (its claims:
+test_surenav_claims)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,6 @@ import pytest
 
 from navlab.core.labels import FREE_IDS, HARD_IDS, NUM_LABELS, label_id
 from navlab.maps.dataset import load_maps
-from navlab.surenav import paper
 from navlab.surenav.benchmark import (
     EXPERT,
     SURENAV,
@@ -129,137 +129,6 @@ def test_runner_outcomes_are_consistent(smoke_outcomes, smoke_params):
             assert r[f"{col}_ci"][0] - 5e-5 <= r[col] <= r[f"{col}_ci"][1] + 5e-5
     t1 = table1_rows(hl, methods, smoke_params.surenav.benchmark)
     assert [r["method"] for r in t1] == methods
-
-
-def _fig4(spl, risk, length, sr=None):
-    return [{"method": m, "city": c, "sr": 1.0 if sr is None else sr[m], "spl": spl[m], "total_risk": risk[m],
-             "path_length_m": length[m]} for m in spl for c in paper.CITIES]
-
-
-def _per_city(fmt: str, *values) -> str:
-    return "; ".join(f"{c}: {fmt.format(*values)}" for c in paper.CITIES)
-
-
-def _fields(claims):
-    return [(c.claim, c.verdict, c.ours, c.paper, c.why) for c in claims]
-
-
-SPL_NEAR = "SuReNav's SPL is near the best (at least 90% of the best method's)"
-LOWER_RISK = "SuReNav has lower total risk than D* Lite in every city"
-TWICE = "D* Lite has roughly twice SuReNav's total risk"
-LONGEST = "COA* is the most conservative: the longest paths"
-HALF_LONGER = "COA*'s paths are about 50% longer than SuReNav's"
-
-
-def test_fig4_claims_hold_on_the_papers_pattern():
-    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.8, "SuReNav": 0.9}
-    risk = {"D* Lite": 40.0, "COA*": 15.0, "RCR": 30.0, "SuReNav": 20.0}
-    length = {"D* Lite": 150.0, "COA*": 240.0, "RCR": 170.0, "SuReNav": 160.0}
-    assert _fields(paper.fig4_claims(_fig4(spl, risk, length))) == [
-        ("D* Lite attains the highest SPL", "holds", _per_city("best D* Lite (0.950), D* Lite 0.950"), "", ""),
-        (SPL_NEAR, "holds", _per_city("0.900 = 95% of D* Lite's"), "", ""),
-        (LOWER_RISK, "holds", _per_city("20.0 vs 40.0"), "", ""),
-        (TWICE, "holds", _per_city("x2.00"), "", ""),
-        (LONGEST, "holds", _per_city("longest COA* (240 m)"), "", ""),
-        (HALF_LONGER, "holds", _per_city("x1.50"), "", ""),
-        ("all methods reach 100% SR", "holds", "lowest: D* Lite/milan 1.00", "", ""),
-    ]
-
-
-def test_fig4_claims_fail_with_the_reason_and_the_reference_beside_them():
-    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.99, "SuReNav": 0.7}
-    risk = {"D* Lite": 19.0, "COA*": 15.0, "RCR": 30.0, "SuReNav": 20.0}
-    length = {"D* Lite": 150.0, "COA*": 140.0, "RCR": 170.0, "SuReNav": 160.0}
-    sr = {**dict.fromkeys(spl, 1.0), "COA*": 0.9}
-    assert _fields(paper.fig4_claims(_fig4(spl, risk, length, sr=sr))) == [
-        ("D* Lite attains the highest SPL", "does not hold", _per_city("best RCR (0.990), D* Lite 0.950"), "", ""),
-        (SPL_NEAR, "does not hold", _per_city("0.700 = 71% of RCR's"), "", ""),
-        (LOWER_RISK, "does not hold", _per_city("20.0 vs 19.0"), "", paper.WHY_UNIT_RISK),
-        (TWICE, "does not hold", _per_city("x0.95"), "", paper.WHY_UNIT_RISK),  # no reference row: no comparison
-        (LONGEST, "does not hold", _per_city("longest RCR (170 m)"), "", ""),
-        (HALF_LONGER, "does not hold", _per_city("x0.88"), "", paper.WHY_COA_LEXICOGRAPHIC),
-        ("all methods reach 100% SR", "does not hold", "lowest: COA*/milan 0.90", "", paper.WHY_SR),
-    ]
-    expert = [{"method": "Expert (reference)", "city": c, "sr": 0.95, "spl": 0.9, "total_risk": 25.0,
-               "path_length_m": 150.0} for c in paper.CITIES]
-    claims = paper.fig4_claims(_fig4(spl, risk, length, sr=sr) + expert)
-    versus = "Expert (reference), whose choices SuReNav imitates: " + "; ".join(
-        f"{c} {{}} vs {{}}" for c in paper.CITIES)
-    risk_why = f"{paper.WHY_UNIT_RISK}; risk of the {versus.format(*(25.0, 19.0) * 3)} (D* Lite's)"
-    assert [(c.verdict, c.why) for c in claims[2:4]] == [("does not hold", risk_why)] * 2
-    assert claims[6].why == f"{paper.WHY_SR}; SR of the {versus.format(*('0.95', '1.00') * 3)} (SuReNav's)"
-    assert "; why: " + risk_why in claims[2].line()
-
-
-def test_fig4_claims_without_surenav_are_inconclusive():
-    spl = {"D* Lite": 0.95, "COA*": 0.6, "RCR": 0.99}
-    risk = {"D* Lite": 19.0, "COA*": 15.0, "RCR": 30.0}
-    length = {"D* Lite": 150.0, "COA*": 240.0, "RCR": 170.0}
-    expert = [{"method": "Expert (reference)", "city": c, "sr": 1.0, "spl": 0.9, "total_risk": 25.0,
-               "path_length_m": 150.0} for c in paper.CITIES]
-    assert _fields(paper.fig4_claims(_fig4(spl, risk, length) + expert)) == [
-        ("D* Lite attains the highest SPL", "does not hold", _per_city("best RCR (0.990), D* Lite 0.950"), "", ""),
-        (SPL_NEAR, "inconclusive", "SuReNav not run", "", ""),
-        (LOWER_RISK, "inconclusive", "SuReNav not run", "", ""),
-        (TWICE, "inconclusive", "SuReNav not run; D* Lite / lowest-risk baseline: " + _per_city("x1.27"), "", ""),
-        (LONGEST, "holds", _per_city("longest COA* (240 m)"), "", ""),
-        (HALF_LONGER, "inconclusive", "SuReNav not run", "", ""),
-        ("all methods reach 100% SR", "holds", "lowest: D* Lite/milan 1.00", "", ""),
-    ]
-
-
-FRECHET_ORDER = "baselines by Fréchet distance, best first: D* Lite < RCR < COA*"
-IOU_ORDER = "baselines by relaxation IoU, best first: COA* > RCR > D* Lite"
-LOWEST_FRECHET, HIGHEST_IOU = "SuReNav has the lowest Fréchet distance", "SuReNav has the highest relaxation IoU"
-MARGIN = "SuReNav's relaxation IoU is at least 44% above the next best"
-
-
-def _table1(changes=None):
-    """The paper's Table I rows with some methods' (frechet, relaxation_iou) changed; None drops a method."""
-    changes = changes or {}
-    return [{**r, **dict(zip(("frechet", "relaxation_iou"), changes[r["method"]], strict=True))}
-            if r["method"] in changes else dict(r) for r in paper.TABLE1 if changes.get(r["method"], ()) is not None]
-
-
-def test_table1_claims_on_the_papers_rows_hold_and_carry_its_number():
-    assert _fields(paper.table1_claims(_table1())) == [
-        (FRECHET_ORDER, "holds", "D* Lite 0.429 < RCR 0.626 < COA* 0.701", "", ""),
-        (IOU_ORDER, "holds", "COA* 0.271 > RCR 0.259 > D* Lite 0.223", "", ""),
-        (LOWEST_FRECHET, "holds", "D* Lite 0.429; COA* 0.701; RCR 0.626; SuReNav 0.334", "", ""),
-        (HIGHEST_IOU, "holds", "D* Lite 0.223; COA* 0.271; RCR 0.259; SuReNav 0.416", "", ""),
-        (MARGIN, "holds", "SuReNav 0.416 vs next best COA* 0.271: x1.54", "0.416 vs 0.271", ""),
-    ]
-    assert paper.table1_claims(_table1())[4].line() == (
-        f"{MARGIN}: holds (SuReNav 0.416 vs next best COA* 0.271: x1.54; paper 0.416 vs 0.271)")
-
-
-def test_table1_claims_fail_with_the_reason():
-    claims = paper.table1_claims(_table1({"D* Lite": (0.9, 0.5), "RCR": (0.2, 0.1), "SuReNav": (0.3, 0.3)}))
-    assert _fields(claims) == [
-        (FRECHET_ORDER, "does not hold", "RCR 0.200 < COA* 0.701 < D* Lite 0.900", "", paper.WHY_SYNTHETIC_EXPERT),
-        (IOU_ORDER, "does not hold", "D* Lite 0.500 > COA* 0.271 > RCR 0.100", "", paper.WHY_SYNTHETIC_EXPERT),
-        (LOWEST_FRECHET, "does not hold", "D* Lite 0.900; COA* 0.701; RCR 0.200; SuReNav 0.300", "",
-         paper.WHY_PERSONA_BLIND),
-        (HIGHEST_IOU, "does not hold", "D* Lite 0.500; COA* 0.271; RCR 0.100; SuReNav 0.300", "",
-         paper.WHY_PERSONA_BLIND + paper.WHY_DSTAR_FITTED),  # D* Lite won: its fitted costs named
-        (MARGIN, "does not hold", "SuReNav 0.300 vs next best D* Lite 0.500: x0.60", "0.416 vs 0.271",
-         paper.WHY_PERSONA_BLIND + paper.WHY_DSTAR_FITTED),
-    ]
-    margin = paper.table1_claims(_table1({"SuReNav": (0.3, 0.3)}))[4]  # best, but only 11% above COA*
-    assert (margin.verdict, margin.ours, margin.why) == (
-        "does not hold", "SuReNav 0.300 vs next best COA* 0.271: x1.11", paper.WHY_PERSONA_BLIND)
-
-
-def test_table1_claims_without_a_method_are_inconclusive():
-    claims = paper.table1_claims(_table1({"D* Lite": (0.9, 0.223), "SuReNav": None}))
-    assert _fields(claims) == [
-        (FRECHET_ORDER, "does not hold", "RCR 0.626 < COA* 0.701 < D* Lite 0.900", "", paper.WHY_SYNTHETIC_EXPERT),
-        (IOU_ORDER, "holds", "COA* 0.271 > RCR 0.259 > D* Lite 0.223", "", ""),
-        *((text, "inconclusive", "SuReNav not run", "", "") for text in (LOWEST_FRECHET, HIGHEST_IOU, MARGIN)),
-    ]
-    claims = paper.table1_claims(_table1({"RCR": None}))  # a baseline missing: its orderings cannot be told
-    assert _fields(claims[:2]) == [(FRECHET_ORDER, "inconclusive", "D* Lite 0.429 < COA* 0.701", "", ""),
-                                   (IOU_ORDER, "inconclusive", "COA* 0.271 > D* Lite 0.223", "", "")]
 
 
 def test_dstar_costs_of_the_smoke_data_are_finite_on_walkable_labels(smoke_data, smoke_params):

@@ -15,8 +15,8 @@ from navlab.maps.network import WalkableNetwork
 from navlab.maps.semantic_map import SemanticMap
 from navlab.maps.tiles import Tile
 from navlab.surenav.benchmark import Outcome
+from navlab.surenav.claims import context_checks
 from navlab.surenav.context.benchmark import LABEL_PSI, label_table_cost, oracle_cost, run_name
-from navlab.surenav.context.benchmark import claims as context_claims
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
 from navlab.surenav.context.tiles import split_tiles
@@ -192,7 +192,7 @@ def test_the_best_per_label_field_is_chosen_on_validation_demonstrations_only(mo
             measure.select_field(*args, PARAMS.surenav.benchmark, PARAMS.surenav.graph)
 
 
-def test_context_claims_hold_only_where_the_paired_interval_excludes_zero():
+def test_context_checks_hold_only_where_the_paired_interval_excludes_zero():
     def outcome(method: str, env: int, frechet: float, iou: float) -> Outcome:
         return Outcome(method, f"env{env}", "tile", "reached", True, 10.0, 10.0, 1.0, 0.0, frechet, iou, (),
                        np.zeros((0, 2)))
@@ -202,13 +202,13 @@ def test_context_claims_hold_only_where_the_paired_interval_excludes_zero():
     outcomes += [outcome(DSTAR, e, f + 0.2, i - 0.1) for e, (f, i) in enumerate(surenav)]  # SuReNav better
     outcomes += [outcome(LABEL_PSI, e, f + (0.05 if e % 2 else -0.05), i + 0.1)  # Fréchet: no difference
                  for e, (f, i) in enumerate(surenav)]
-    got = context_claims(outcomes, seed=0, resamples=200)
-    verdicts = [(c.claim, c.verdict, c.paper, c.why) for c in got]
-    assert verdicts == [
-        ("SuReNav's relaxation IoU above D* Lite's, paired 95% interval excluding zero", "holds", "", ""),
-        ("SuReNav's Fréchet below D* Lite's, paired 95% interval excluding zero", "holds", "", ""),
-        (f"SuReNav's relaxation IoU above {LABEL_PSI}'s, paired 95% interval excluding zero", "does not hold", "", ""),
-        (f"SuReNav's Fréchet below {LABEL_PSI}'s, paired 95% interval excluding zero", "does not hold", "", ""),
+    got = context_checks(outcomes, [DSTAR, LABEL_PSI], seed=0)
+    assert [(c.claim, c.verdict, c.source) for c in got] == [
+        ("SuReNav's relaxation IoU above D* Lite's", "holds", "ours"),
+        ("SuReNav's Fréchet distance below D* Lite's", "holds", "ours"),
+        (f"SuReNav's relaxation IoU above {LABEL_PSI}'s", "does not hold", "ours"),  # 0.1 below it
+        (f"SuReNav's Fréchet distance below {LABEL_PSI}'s", "inconclusive", "ours"),  # no difference
     ]
-    assert [c.ours.split(" [")[0] for c in got] == ["Δ +0.100", "Δ -0.200", "Δ -0.100", "Δ +0.000"]
-    assert got[0].ours == "Δ +0.100 [0.1, 0.1]" and got[0].line() == f"{got[0].claim}: holds (Δ +0.100 [0.1, 0.1])"
+    assert [c.ours.split(",")[0] for c in got] == [
+        f"SuReNav - {DSTAR} = +0.1", f"SuReNav - {DSTAR} = -0.2", f"SuReNav - {LABEL_PSI} = -0.1",
+        f"SuReNav - {LABEL_PSI} = +0"]

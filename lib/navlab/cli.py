@@ -206,6 +206,22 @@ def _sweep_collect(args) -> int:
     return 0
 
 
+def _params_file(path: str) -> str:
+    """``--params``: a readable UTF-8 text file, else argparse's one line naming it (a folder or binary bytes
+    would otherwise surface as an OSError or a UnicodeDecodeError from deep in the YAML loader)."""
+    try:
+        Path(path).read_text(encoding="utf8")
+    except IsADirectoryError:
+        raise argparse.ArgumentTypeError(f"{path} is a folder; name the params.yaml file in it") from None
+    except FileNotFoundError:
+        raise argparse.ArgumentTypeError(f"{path}: no such file") from None
+    except UnicodeDecodeError:
+        raise argparse.ArgumentTypeError(f"{path} is not a text file (not UTF-8); give a params.yaml") from None
+    except OSError as err:
+        raise argparse.ArgumentTypeError(f"{path}: {err.strerror}") from None
+    return path
+
+
 def _params_check(args) -> int:
     from navlab.pipeline.profile_check import check_profile
 
@@ -301,7 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
     k = par_cmds.add_parser("check", help="dry-run each profile's stage shapes on the CPU: model sizes, aerial "
                                           "vs test-map sizes, patch vs image sizes, HJ grids vs memory")
     k.add_argument("--profile", choices=PROFILES, default=None, help="check one profile (default: all)")
-    k.add_argument("--params", default=None, help="params.yaml to check (default: the checkout's)")
+    k.add_argument("--params", default=None, type=_params_file, help="params.yaml to check (default: the checkout's)")
     k.set_defaults(func=_params_check)
 
     pipe = groups.add_parser("pipeline", help="dvc.yaml and params.resolved.yaml, generated from the stage registry")

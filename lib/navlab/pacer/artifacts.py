@@ -65,7 +65,8 @@ def _train(phase: str):
              for ds in (pacer_dataset(params, data_dir, n, "val", bank) for n in names)],
             phase_dir(artifacts_dir, phase),
             PhaseRun(phase, getattr(params.pacer.train.epochs, phase), params.pacer.seed, params.pacer.data.n_pairs,
-                     phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None),
+                     phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
+                     params.pacer.data.patch_size),
             inputs=phase_inputs(params, data_dir),
             selection=Selection(selection_windows(params, data_dir, bank), params.pacer.evaluation.cost_scale),
         )

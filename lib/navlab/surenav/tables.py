@@ -1,15 +1,16 @@
-"""Table I and Fig. 4 of SuReNav as report tables: our rows, the paper's, the notes and the claim verdicts.
+"""Table I and Fig. 4 of SuReNav as report tables: our rows, the paper's, the notes and the claims.
 
-The notebooks only run the benchmark and hand the outcomes here; what is printed beside what, which
-methods are null and why, and which of the paper's claims hold are decided in this module. The tables and
-claims are ``navlab.metrics.tables``' ``Table`` and ``Claim``, as for HJ and PACER.
+The notebooks only run the benchmark and hand the outcomes here; what is printed beside what and which
+methods are null and why are decided in this module. The claims (the paper's, from the registry, and our
+own checks) are decided on the same per-episode outcomes by ``navlab.surenav.claims``; the notes carry
+the set-up and the differences from the paper only.
 """
 
 from __future__ import annotations
 
 from navlab.core.params.surenav_benchmark import BenchmarkParams
 from navlab.metrics.tables import Table
-from navlab.surenav import paper
+from navlab.surenav import claims, paper
 from navlab.surenav.benchmark import (
     EXPERT,
     FIG4_COLUMNS,
@@ -56,7 +57,8 @@ def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table
     rows = table1_rows(outcomes, methods, settings)
     if SURENAV not in methods:
         rows += null_rows(SURENAV, [{}], [c for c in TABLE1_COLUMNS if c != "method"])
-    claims = paper.table1_claims(rows)
+    decided = [*claims.table1_claims(outcomes, claims.T1, settings.seed),
+               *claims.rcr_scoring_checks(outcomes, settings.seed)]
     groups = len({o.group for o in outcomes})
     notes = " ".join(part for part in [
         (f"{len({o.environment for o in outcomes})} semi-static test environments on {groups} held-out real tiles "
@@ -67,10 +69,8 @@ def table1(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table
         f"{EXPERT}: the synthetic expert's planner run through the same executor (a ceiling, not a baseline).",
         dstar_note(settings.dstar_cost_floor), _learned(rows, methods), _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples),
         replan_note(outcomes, methods),
-        "Claims: " + " | ".join(c.line() for c in claims),
     ] if part)
-    return Table("table1_human_likeness", "SuReNav Table I", TABLE1_COLUMNS, rows,
-                 [dict(r) for r in paper.TABLE1], notes, claims)
+    return Table(claims.T1, "SuReNav Table I", TABLE1_COLUMNS, rows, [dict(r) for r in paper.TABLE1], notes, decided)
 
 
 def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
@@ -79,7 +79,6 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
     cities = list(dict.fromkeys(o.group for o in outcomes))
     if SURENAV not in methods:
         rows += null_rows(SURENAV, [{"city": c} for c in cities], [c for c in FIG4_COLUMNS if c not in ("method", "city")])
-    claims = paper.fig4_claims(rows)
     notes = " ".join(part for part in [
         (f"{len({o.environment for o in outcomes})} episodes on {len(cities)} held-out real tiles standing in for "
          "Milan, Baltimore and Capitol Hill (see data/surenav/maps/index.json roles); perturbations along OSRM "
@@ -93,8 +92,7 @@ def fig4(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> Table:
         "SR intervals: Wilson for a single run, bootstrap over episodes of the seed-averaged success for a "
         "method run on several training seeds." if SURENAV in methods else "",
         _missing(methods), _INTERVALS.format(n=settings.bootstrap_samples), replan_note(outcomes, methods),
-        "Claims: " + " | ".join(c.line() for c in claims),
     ] if part)
-    return Table("fig4_safety_efficiency", "SuReNav Fig. 4", FIG4_COLUMNS, rows,
-                 [dict(r) for r in paper.FIG4_SR], notes, claims)
+    return Table(claims.FIG4, "SuReNav Fig. 4", FIG4_COLUMNS, rows, [dict(r) for r in paper.FIG4_SR], notes,
+                 claims.fig4_claims(outcomes, settings.seed))
 

@@ -19,8 +19,9 @@ class RobotParams:
 
     radius_m: Annotated[float, between(0.01, 2.0)]
     v_max: Annotated[float, between(0.01, 10.0)]
-    accel_min: Annotated[float, between(-10.0, 0.0)]
-    accel_max: Annotated[float, between(0.0, 10.0)]
+    # strictly signed: the lattice's speed changes divide by each (search.state_lattice), the grids need both
+    accel_min: Annotated[float, between(-10.0, -0.01)]
+    accel_max: Annotated[float, between(0.01, 10.0)]
     omega_max: Annotated[float, between(0.01, 10.0)]
 
 
@@ -65,7 +66,7 @@ class StaticBRTGridParams:
 class HumanBRTGridParams:
     """Human-robot BRT in the robot-centric relative frame, square of half-width half_extent_m."""
 
-    shape: Annotated[tuple[int, ...], between(2)]  # relative state, as the human-robot dynamics order it
+    shape: Annotated[tuple[int, ...], between(2, length=3)]  # relative (x, y, robot speed), as the dynamics order it
     half_extent_m: Annotated[float, between(0.5, 50.0)]
     horizon_s: Annotated[float, between(0.1, 30.0)]
 

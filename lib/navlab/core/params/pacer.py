@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
+from pydantic import Field
+
 from navlab.core.params.fields import between, section
 
 
@@ -101,7 +103,7 @@ class PacerDataParams:
 class PacerModelParams:
     """The costmap network (pacer/model.py): a U-Net over the BEV image, a context encoder, a fusion."""
 
-    image_channels: Annotated[tuple[int, ...], between(1)]  # U-Net encoder widths, one max-pool after each
+    image_channels: Annotated[tuple[int, ...], between(1), Field(min_length=1)]  # U-Net encoder widths, one max-pool after each
     bottleneck_channels: Annotated[int, between(1)]
     context_encoder: Literal["cnn", "resnet50"]
     context_channels: Annotated[tuple[int, ...], between(1)]  # widths of the small CNN (unused by resnet50)

@@ -23,8 +23,9 @@ Rows:
   their priors from the context TRAINING demonstrations only (``demo_priors.label_traversal``);
 - the Expert (the context demonstrator's own planner, true persona).
 
-Claims (paired over environments, 95% percentile bootstrap): SuReNav's IoU above and Fréchet below
-each D* Lite reading's and the label-table Psi's, each interval excluding zero.
+Claims (``navlab.surenav.claims``, paired over environments): the paper's Table I claims, the same
+registry entries ``table1_human_likeness`` decides, and our own checks: SuReNav's IoU above and Fréchet
+below each D* Lite reading's and the label-table Psi's.
 
 First measured on ``default`` (branch surenav-context-benchmark, before any ``dvc repro``; Fréchet /
 IoU): SuReNav (3 seeds, context input) 0.129 / 0.533; labels-only input (1 seed) 0.154 / 0.496;
@@ -52,9 +53,9 @@ from navlab.core.seeding import rng
 from navlab.graphs.region_graph import RegionGraph
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.metrics.navigation import risk_table
-from navlab.metrics.tables import Claim, Table
+from navlab.metrics.tables import Table
 from navlab.sim.semi_static import Policy
-from navlab.surenav import paper
+from navlab.surenav import claims, paper
 from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, RCRPolicy
 from navlab.surenav.baselines.cost_field import CostFieldPolicy
 from navlab.surenav.baselines.rcr import risk_table as rcr_risk_table
@@ -212,33 +213,12 @@ def run_all(envs: list[Environment], stored: dict[str, np.ndarray], runs: dict, 
         _JOB.clear()
 
 
-def per_environment(outcomes: list[Outcome], method: str, column: str) -> np.ndarray:
-    """(environments,) a method's value per environment, averaged over its runs (training seeds)."""
-    table: dict[str, list[float]] = {}
-    for o in outcomes:
-        if method_of(o.method) == method:
-            table.setdefault(o.environment, []).append(float(getattr(o, column)))
-    return np.array([np.mean(v) for v in table.values()])
-
-
 def paired(outcomes: list[Outcome], a: str, b: str, column: str, seed: int, resamples: int) -> dict:
-    """Mean of a - b over environments and its 95% percentile-bootstrap interval."""
-    diff = per_environment(outcomes, a, column) - per_environment(outcomes, b, column)
+    """Mean of a - b over environments and its 95% percentile-bootstrap interval (the notes' deltas)."""
+    v = claims.paired_values(outcomes, (a, b), column)
+    diff = v[a] - v[b]
     lo, hi = bootstrap_mean_ci(diff, rng(seed, "context table", a, b, column), resamples)
     return {"delta": float(diff.mean()), "ci": [round(lo, 4), round(hi, 4)]}
-
-
-def claims(outcomes: list[Outcome], seed: int, resamples: int, surenav: str = SURENAV) -> list[Claim]:
-    """SuReNav's IoU above and Fréchet below every D* Lite reading and the label-table Psi, each paired
-    interval excluding zero (the issue's done-when)."""
-    out = []
-    for other in paired_against(dict.fromkeys(method_of(o.method) for o in outcomes)):
-        for column, word, sign in (("relaxation_iou", "relaxation IoU above", 1), ("frechet", "Fréchet below", -1)):
-            p = paired(outcomes, surenav, other, column, seed, resamples)
-            holds = bool(p["ci"][0] > 0) if sign > 0 else bool(p["ci"][1] < 0)
-            out.append(Claim.of(f"{surenav}'s {word} {other}'s, paired 95% interval excluding zero", holds,
-                                f"Δ {p['delta']:+.3f} {p['ci']}"))
-    return out
 
 
 def _mix_note(mix: dict) -> str:
@@ -272,7 +252,8 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
     s = params.surenav
     settings = s.benchmark
     rows = table1_rows(outcomes, methods_, settings)
-    found = claims(outcomes, settings.seed, settings.bootstrap_samples)
+    found = (claims.table1_claims(outcomes, claims.T1_CONTEXT, settings.seed)
+             + claims.context_checks(outcomes, paired_against(methods_), settings.seed))
     ctx = s.demos.context
     ablations = [run_name(run, ctx.node_features, ctx.estimator.gradient) for run in estimator_runs(ctx, s.train)][1:]
     other = next(g for g in GRADIENTS if g != ctx.estimator.gradient)
@@ -309,9 +290,8 @@ def table(outcomes: list[Outcome], methods_: list[str], params: Params, index: d
         "demonstrations'; COA*'s class order comes from the same rates.",
         "Paired 95% intervals (percentile bootstrap over environments): " + "; ".join(deltas) + ".",
         f"95% intervals: percentile bootstrap over environments ({settings.bootstrap_samples} resamples).",
-        "Claims: " + " | ".join(c.line() for c in found),
     ] if part)
-    return Table("table1_context", "SuReNav Table I, on the context demonstrator (issue 25)", TABLE1_COLUMNS, rows,
+    return Table(claims.T1_CONTEXT, "SuReNav Table I, on the context demonstrator (issue 25)", TABLE1_COLUMNS, rows,
                  [dict(r) for r in paper.TABLE1], notes, found)
 
 
