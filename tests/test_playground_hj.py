@@ -16,6 +16,7 @@ import pytest
 from matplotlib.backend_bases import MouseEvent
 
 from navlab.core.io import DataError
+from navlab.core.params import ParamsError
 from navlab.reach.brt_margin import build_brt_margins
 from navlab.reach.precompute import build_hj_grids
 from navlab.viz.playground.common import ERROR_MARK
@@ -226,3 +227,9 @@ def test_static_brt_in_3d_is_a_meshcat_scene_of_the_room(view, monkeypatch):
     button.click()
     assert view.message.kind == "error" and "has no static BRT" in view.message.text
     assert view.scene.value.startswith("<iframe srcdoc=")
+
+
+def test_a_bad_notebook_scenario_stops_with_one_line_naming_the_parameter(loaded):
+    with pytest.raises(ParamsError, match=r"notebook parameter scenario = 'nope': .*table3"):
+        HJView(loaded, "nope")
+

@@ -14,6 +14,7 @@ import pytest
 import torch
 
 from navlab.core.io import DataError
+from navlab.core.params import ParamsError
 from navlab.pacer.baselines.sterling import SterlingEncoder
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.evaluate import costmap_over_map
@@ -186,3 +187,15 @@ def test_memo_keeps_the_most_recent_and_errors_are_one_line():
     assert calls == [1, 2, 3, 2] and (memo.hits, memo.misses) == (1, 4)
     assert one_line(UserError("refused\nmore")) == "refused"
     assert one_line(KeyError("x")) == "KeyError: 'x'"
+
+
+@pytest.mark.parametrize("map_choice, context, message", [
+    ("nope", "operator", r"notebook parameter map_choice = 'nope': choose a map: 'seen k' or 'unseen k' with k in 0\.\."),
+    ("seen 0", "lava > grass", r"notebook parameter context = 'lava > grass': terrain 'lava' is not a seen terrain"),
+])
+def test_a_bad_notebook_scenario_stops_with_one_line_naming_the_parameter(parts, map_choice, context, message):
+    """papermill's ``-p map_choice nope``: a ParamsError (shown as one line by the notebook) naming the
+    parameter, its value and the choices, not a later cell's traceback on a map never chosen."""
+    with pytest.raises(ParamsError, match=message):
+        PacerView(PacerPlayground(*parts), map_choice, context)
+

@@ -16,6 +16,7 @@ from scipy import ndimage
 
 from navlab.core.io import DataError
 from navlab.core.labels import HARD_IDS
+from navlab.core.params import ParamsError
 from navlab.maps.perturb import OBSTACLE, adjacent_superpixels
 from navlab.metrics.navigation import path_length, risk_table, total_risk
 from navlab.metrics.relaxation import relaxed_regions
@@ -161,7 +162,7 @@ def test_bad_input_is_one_line_in_the_widget(playground, action, message):
     """What the view shows for a refused click: one line (marked), no traceback, drawing and state unchanged
     (a refused action changes nothing; the setup steps before it may have)."""
     view = SuReNavView(playground)
-    assert view.start(playground.tile, None, None, [])
+    view.start(playground.tile, None, None, [])
     drawn, table = view.result.value, view.table.value
     assert not view.act(action, playground)
     assert view.message.kind == "error" and message in view.message.text, view.message.text
@@ -175,7 +176,8 @@ def test_map_clicks_and_widgets_drive_the_playground(playground):
     """Clicks on the map (matplotlib button presses, as ipympl delivers them) and on the view's widgets, as
     the browser test makes them in JupyterLab."""
     view = SuReNavView(playground)
-    assert view.start() and view.message.kind == "info" and len(playground.closed) == 1
+    view.start()
+    assert view.message.kind == "info" and len(playground.closed) == 1
     shown, canvas = view.result.value, view.canvas.value
     view.modes.value = CLOSE
     region = next(iter(playground.closed))
@@ -222,3 +224,16 @@ def test_notebook_scenario_points(playground):
 def test_missing_model_names_the_command(smoke_data, tmp_path):
     with pytest.raises(DataError, match="artifacts build --only surenav_estimator"):
         SuReNavPlayground.load("smoke", smoke_data, tmp_path)
+
+
+@pytest.mark.parametrize("start, message", [
+    ("[1e9, 1e9]", r"start = '\[1e9, 1e9\]'.*: \(1000000000, 1000000000\) m is off the map"),
+    ("[1, 2, 3]", r"start = \[1, 2, 3\]: give \(x, y\) metres"),
+    ("here", r"start = 'here' is not a literal; give \(x, y\) metres"),
+])
+def test_a_bad_notebook_scenario_stops_with_one_line_naming_the_parameter(playground, start, message):
+    """papermill passes ``-p start "[1e9, 1e9]"`` as a string: it is read as the point it spells, and a
+    point off the map (or no point) stops the run with one line naming the parameters."""
+    with pytest.raises(ParamsError, match=message):
+        SuReNavView(playground).start(None, start, None, [])
+

@@ -24,6 +24,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.image import imsave
 
+from navlab.core.params import ParamsError
+
 Kind = Literal["info", "progress", "error"]
 ERROR_MARK = "✗"  # leads every refused or failed action's line (the browser test looks for it)
 COLOURS = {"info": "#1b5e20", "progress": "#555555", "error": "#b71c1c"}
@@ -90,6 +92,13 @@ class PlaygroundView:
 
     def status(self) -> str:
         return "done"
+
+    def start_scenario(self, parameters: str, action: Callable[..., Any], *args: Any) -> None:
+        """The notebook's scenario (its papermill parameters), taken as a click is; a refused one stops the
+        run with one line naming the parameters (a ParamsError, which the notebook shows without a traceback)
+        instead of leaving a later cell to fail on a state that never was."""
+        if not self.act(action, *args):
+            raise ParamsError(f"notebook parameter {parameters}: {self.message.text}")
 
     def act(self, action: Callable[..., Any], *args: Any) -> bool:
         """Run ``action(*args)`` on the state, then redraw; False (and one line saying why) when it was

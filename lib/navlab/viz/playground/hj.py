@@ -691,12 +691,13 @@ class HJView(PlaygroundView):
         if scenario is not None:
             self.start(scenario)
 
-    def start(self, scenario: str) -> bool:
-        """The notebook's scenario: the menu shows it, then the controls follow the set-up."""
+    def start(self, scenario: str) -> None:
+        """The notebook's scenario: the menu shows it, then the controls follow the set-up; a refused one is
+        a ParamsError naming the parameter."""
         with self._synced():
             if scenario in self.playground.scenarios:
                 self.scenarios.value = scenario
-        return self.act(self.playground.choose_scenario, scenario)
+        self.start_scenario(f"scenario = {scenario!r}", self.playground.choose_scenario, scenario)
 
     def snapshot(self):
         """The current drawing as a PNG image output: what an executed notebook (papermill) keeps."""

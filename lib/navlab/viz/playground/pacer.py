@@ -412,15 +412,17 @@ class PacerView(PlaygroundView):
         p = self.playground
         return Image(figure_bytes(outcome_figure(p.outcome(), f"{p.choice[0]} map {p.choice[1]}"), "png"))
 
-    def start(self, map_choice: str, context: str) -> bool:
-        """The notebook's scenario: the map (the menu shows it too), then the context."""
+    def start(self, map_choice: str, context: str) -> None:
+        """The notebook's scenario: the map (the menu shows it too), then the context; a refused one is a
+        ParamsError naming the parameter."""
         if map_choice in self.playground.map_options():
             self._syncing = True
             try:
                 self.maps.value = map_choice
             finally:
                 self._syncing = False
-        return self.act(self.playground.choose_map, map_choice) and self.act(self.playground.set_context, context)
+        self.start_scenario(f"map_choice = {map_choice!r}", self.playground.choose_map, map_choice)
+        self.start_scenario(f"context = {context!r}", self.playground.set_context, context)
 
     def _on_map(self, change) -> None:
         if not self._syncing:

@@ -19,6 +19,7 @@ estimator's training graphs refer to).
 
 from __future__ import annotations
 
+import ast
 import html
 from dataclasses import dataclass
 from pathlib import Path
@@ -228,10 +229,14 @@ class SuReNavPlayground:
         before = self.tile, self.start, self.goal, self.closed
         try:
             self.choose_tile(self.tiles()[0] if tile is None else tile)
-            ends = [self.defaults[self.tile][k] if xy is None else self.cell_at(*xy) for k, xy in enumerate((start, goal))]
+            ends = [self.defaults[self.tile][k] if xy is None else self.cell_at(*_point(name, xy))
+                    for k, (name, xy) in enumerate((("start", start), ("goal", goal)))]
             self._check_ends(*ends, frozenset())
             self.start, self.goal = ends
-            for cell in [self.midway()] if closed == "midway" else [self.cell_at(*xy) for xy in closed or ()]:
+            points = [] if closed == "midway" else _literal("closed", closed) or ()
+            if not isinstance(points, list | tuple):
+                raise UserError(f"closed = {closed!r}: give \"midway\" or a list of (x, y) points, e.g. [[120, 80]]")
+            for cell in [self.midway()] if closed == "midway" else [self.cell_at(*_point("closed", xy)) for xy in points]:
                 self.toggle(cell)
         except UserError:
             self.tile, self.start, self.goal, self.closed = before  # refused as a whole
@@ -407,6 +412,27 @@ def is_widget_backend() -> bool:
     return "ipympl" in backend or backend == "widget"
 
 
+def _literal(name: str, value):
+    """A notebook parameter as papermill may pass it: a string such as ``"[120, 80]"`` (``-p start ...``) read
+    as the Python literal it spells; anything else as given."""
+    if not isinstance(value, str):
+        return value
+    try:
+        return ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        raise UserError(f"{name} = {value!r} is not a literal; give (x, y) metres, e.g. [120, 80]") from None
+
+
+def _point(name: str, value) -> tuple[float, float]:
+    """(x, y) metres from a notebook parameter, or a UserError naming it."""
+    value = _literal(name, value)
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise UserError(f"{name} = {value!r}: give (x, y) metres, e.g. [120, 80]") from None
+    return x, y
+
+
 class SuReNavView(PlaygroundView):
     """The widgets of the SuReNav playground: tile menu, click mode, the Psi toggle, the clickable map
     (an ipympl canvas under ``%matplotlib widget``, else a static image), every method's panel and the
@@ -443,11 +469,14 @@ class SuReNavView(PlaygroundView):
         self.widget = widgets.VBox([widgets.HBox([self.tiles, self.costs, reopen]), self.modes, self.message.widget,
                                     widgets.HBox([self.canvas, self.table]), self.result])
 
-    def start(self, tile: str | None = None, start=None, goal=None, closed="midway") -> bool:
-        """The notebook's scenario (see ``SuReNavPlayground.set_scenario``); the menu follows."""
-        done = self.act(self.playground.set_scenario, tile, start, goal, closed)
-        self._sync(self.tiles, self.playground.tile)
-        return done
+    def start(self, tile: str | None = None, start=None, goal=None, closed="midway") -> None:
+        """The notebook's scenario (see ``SuReNavPlayground.set_scenario``); the menu follows. A refused one
+        is a ParamsError naming the parameters."""
+        try:
+            self.start_scenario(f"tile = {tile!r}, start = {start!r}, goal = {goal!r}, closed = {closed!r}",
+                                self.playground.set_scenario, tile, start, goal, closed)
+        finally:
+            self._sync(self.tiles, self.playground.tile)
 
     def snapshot(self):
         """The scenario's panels as a PNG image output: what an executed notebook (papermill) keeps."""
