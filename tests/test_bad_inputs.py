@@ -327,3 +327,50 @@ def test_notebook_run_with_another_profile_keeps_the_tracked_reports(tmp_path, m
     cli.main(["notebook", "run", "notebooks/00_quickstart.ipynb", "--profile", "smoke",
               "--artifacts-dir", str(tmp_path)])
     assert calls["reports_dir"] == str(tmp_path / "reports" / "smoke")
+
+
+# --- SuReNav context artefacts: each names its own stage's rebuild ----------------------------------------------
+
+
+@pytest.mark.parametrize("content", [b"", b"PK\x03\x04 truncated zip", b"garbage, not a torch file"])
+def test_an_unreadable_context_estimator_names_its_stage(tmp_path, content):
+    from navlab.surenav.context.training import EstimatorRun, context_model_path, load_context_estimator
+
+    run = EstimatorRun("context", "blackbox")
+    path = context_model_path(tmp_path, run, 0)
+    path.parent.mkdir(parents=True)
+    path.write_bytes(content)
+    with pytest.raises(DataError, match=r"model\.pt is unreadable.*--only surenav_context_estimator"):
+        load_context_estimator(tmp_path, run, 0)
+    torch.save({"weights": {}}, path)  # a torch file, but no estimator
+    with pytest.raises(DataError, match=r"does not hold an estimator this code can load.*--only "
+                                        r"surenav_context_estimator"):
+        load_context_estimator(tmp_path, run, 0)
+
+
+@pytest.mark.parametrize("index, message", [
+    ('{"maps": {"train": [', r"index\.json is unreadable \(not complete JSON\)"),
+    ('{"seed": 0}', r"index\.json does not list the tiles of each split \(train, val, test\)"),
+    ('{"maps": {"train": [], "val": []}}', r"does not list the tiles of each split"),
+])
+def test_a_truncated_or_incomplete_context_demos_index_names_its_stage(tmp_path, index, message):
+    from navlab.surenav.context.dataset import FOLDER, load_index
+
+    folder = tmp_path.joinpath(*FOLDER)
+    folder.mkdir(parents=True)
+    (folder / "index.json").write_text(index)
+    with pytest.raises(DataError, match=message + r".*--only surenav_context_demos"):
+        load_index(tmp_path)
+
+
+def test_a_truncated_context_demos_tile_names_its_stage(tmp_path):
+    from navlab.surenav.context.dataset import FOLDER, load_context_demos
+
+    folder = tmp_path.joinpath(*FOLDER)
+    (folder / "test").mkdir(parents=True)
+    (folder / "index.json").write_text('{"maps": {"train": [], "val": [], "test": ["t0"]}}')
+    np.savez(folder / "test" / "t0.npz", superpixels=np.zeros((2, 2), np.int32))
+    (folder / "test" / "t0.map.npz").write_bytes(b"PK\x03\x04 cut short")
+    with pytest.raises(DataError, match=r"t0\.map\.npz is unreadable.*--only surenav_context_demos"):
+        load_context_demos(tmp_path, "test")
+

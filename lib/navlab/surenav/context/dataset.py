@@ -98,7 +98,14 @@ def load_index(artifacts_dir: str | Path) -> dict:
     path = Path(artifacts_dir, *FOLDER, "index.json")
     if not path.is_file():
         raise DataError(f"{path} is missing; {_FIX}")
-    return read_index(path)
+    try:
+        index = read_index(path)
+    except DataError:  # its own rebuild, not data/'s
+        raise DataError(f"{path} is unreadable (not complete JSON); {_FIX}") from None
+    maps = index.get("maps") if isinstance(index, dict) else None
+    if not isinstance(maps, dict) or any(not isinstance(maps.get(split), list) for split in SPLITS):
+        raise DataError(f"{path} does not list the tiles of each split ({', '.join(SPLITS)}); {_FIX}")
+    return index
 
 
 def load_context_demos(artifacts_dir: str | Path, split: str) -> list[tuple[SemanticMap, MapDemos]]:
@@ -109,7 +116,10 @@ def load_context_demos(artifacts_dir: str | Path, split: str) -> list[tuple[Sema
     for name in load_index(artifacts_dir)["maps"][split]:
         folder = Path(artifacts_dir, *FOLDER, split)
         arrays = load_npz(folder / f"{name}.npz", fix=_FIX)
-        smap = SemanticMap.load(folder / f"{name}.map.npz")
+        try:
+            smap = SemanticMap.load(folder / f"{name}.map.npz")
+        except DataError as err:  # this stage's tile: its rebuild, not data/'s
+            raise DataError(f"{str(err).rsplit('; ', 1)[0]}; {_FIX}") from None
         out.append((smap, MapDemos(name, split, arrays["superpixels"], [], _unpack(arrays, "semi_static"))))
     return out
 

@@ -47,7 +47,7 @@ from navlab.core.params.surenav_demos import ContextDemosParams, ContextEstimato
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
-from navlab.core.training import TrainingRun, descend, fit, save_torch
+from navlab.core.training import TrainingRun, descend, fit, load_torch, save_torch
 from navlab.graphs.incremental import update_graph
 from navlab.maps.semantic_map import SemanticMap
 from navlab.sim.semi_static import window_graph
@@ -216,13 +216,21 @@ def build_context_estimators(params: Params, data_dir: Path, artifacts_dir: Path
 def load_context_estimator(artifacts_dir: str | Path, run: EstimatorRun, seed: int) -> tuple[ContextEstimator, str]:
     """(trained estimator in eval mode, its node_features) of one run."""
     path = context_model_path(artifacts_dir, run, seed)
+    fix = "rebuild it with `python -m navlab artifacts build --only surenav_context_estimator`"
     if not path.is_file():
-        raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
-                        "surenav_context_estimator`")
-    saved = torch.load(path, map_location="cpu", weights_only=False)
-    model = from_architecture(saved)
-    model.load_state_dict(saved["weights"])
-    return model.eval(), saved["features"]
+        raise DataError(f"{path} is missing; {fix}")
+    try:
+        saved = load_torch(path)
+    except DataError as err:  # truncated or garbage bytes
+        raise DataError(f"{err}; {fix}") from None
+    try:
+        model = from_architecture(saved)
+        model.load_state_dict(saved["weights"])
+        features = saved["features"]
+    except (KeyError, TypeError, RuntimeError, ValueError, AttributeError) as err:
+        raise DataError(f"{path} does not hold an estimator this code can load ({type(err).__name__}: "
+                        f"{str(err).splitlines()[0][:200] if str(err) else ''}); {fix}") from None
+    return model.eval(), features
 
 
 def context_cost(artifacts_dir: str | Path, run: EstimatorRun, seed: int):
