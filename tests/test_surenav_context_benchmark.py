@@ -19,7 +19,7 @@ from navlab.surenav.claims import context_checks
 from navlab.surenav.context.benchmark import LABEL_PSI, label_table_cost, oracle_cost, run_name
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
-from navlab.surenav.context.tiles import split_tiles
+from navlab.surenav.context.tiles import check_disjoint, split_tiles
 from navlab.surenav.context.training import EstimatorRun, demo_sample, estimator_runs
 from navlab.surenav.demo_priors import DSTAR, DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
 from navlab.surenav.experts.environments import Demonstration
@@ -50,6 +50,18 @@ def test_train_and_val_tiles_are_disjoint_from_the_test_tiles_and_from_each_othe
     assert [t.map.name for t in again["val"]] == [t.map.name for t in split["val"]] and len(again["train"]) == 3
     with pytest.raises(ValueError, match="val_tiles"):
         split_tiles(tiles, maps, val_tiles=len(tiles), max_train_tiles=0, seed=0)
+
+
+def test_a_tile_in_two_splits_is_refused():
+    """The guard ``split_tiles`` ends with: the same ground (city, row, col) under two splits, or twice in one,
+    whatever the tile objects or their names."""
+    a, b = _tile("helsinki", 0, 0.1), _tile("helsinki", 1, 0.1)
+    check_disjoint({"train": [a], "val": [b], "test": []})
+    copy = Tile("helsinki", 0, 0, SemanticMap("renamed", a.map.labels.copy(), a.map.frame), a.network)
+    with pytest.raises(ValueError, match="tile renamed is in the train split and again in the test split"):
+        check_disjoint({"train": [a], "val": [b], "test": [copy]})
+    with pytest.raises(ValueError, match="tile helsinki_r0c1 is in the val split and again in the val split"):
+        check_disjoint({"train": [a], "val": [b, b], "test": []})
 
 
 def _demo(relaxed_cells, jaywalked=False, delta=None) -> Demonstration:

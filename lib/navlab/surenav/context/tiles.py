@@ -41,7 +41,21 @@ def split_tiles(tiles: list[Tile], maps: MapsParams, val_tiles: int, max_train_t
     if max_train_tiles:
         train = train[:max_train_tiles]
     train.sort(key=lambda t: t.map.name)
-    return {"train": train, "val": val, "test": test}
+    splits = {"train": train, "val": val, "test": test}
+    check_disjoint(splits)
+    return splits
+
+
+def check_disjoint(splits: dict[str, list[Tile]]) -> None:
+    """Held out stays held out: a ValueError when one tile sits in two splits (or twice in one). Tiles of a
+    city are cut side by side on one grid, so distinct (city, row, col) never share a cell on the ground."""
+    where: dict[tuple[str, int, int], str] = {}
+    for split, tiles in splits.items():
+        for t in tiles:
+            first = where.setdefault((t.city, t.row, t.col), split)
+            if first != split or sum(u.city == t.city and (u.row, u.col) == (t.row, t.col) for u in tiles) > 1:
+                raise ValueError(f"tile {t.map.name} is in the {first} split and again in the {split} split; the "
+                                 "splits must share no tile (a held-out tile would be trained on)")
 
 
 def real_tiles(data_dir: str | Path, maps: MapsParams, val_tiles: int, max_train_tiles: int, seed: int
