@@ -201,9 +201,14 @@ def test_closed_loop_in_the_background_answers_stop(view):
 def test_missing_artefacts_name_the_command(smoke_params, hj_artifacts, tmp_path):
     with pytest.raises(DataError, match="artifacts build --only hj_grids"):
         HJPlayground(smoke_params, tmp_path)
+    with pytest.raises(DataError, match=rf"needs hj_grids, hj_margins \(profile smoke, not in {tmp_path}\).*"
+                                        r"--profile smoke --data-dir data .*--only hj_grids --only hj_margins`"):
+        HJPlayground.load("smoke", tmp_path)
     shutil.copytree(hj_artifacts / "hj", tmp_path / "hj")
     with pytest.raises(DataError, match="artifacts build --only hj_margins"):
         HJPlayground(smoke_params, tmp_path)
+    with pytest.raises(DataError, match=r"needs hj_margins \(.*--only hj_margins`"):
+        HJPlayground.load("smoke", tmp_path)
 
 
 def test_snapshot_is_a_png(view):
@@ -232,4 +237,18 @@ def test_static_brt_in_3d_is_a_meshcat_scene_of_the_room(view, monkeypatch):
 def test_a_bad_notebook_scenario_stops_with_one_line_naming_the_parameter(loaded):
     with pytest.raises(ParamsError, match=r"notebook parameter scenario = 'nope': .*table3"):
         HJView(loaded, "nope")
+
+
+def test_the_first_action_says_it_compiles_and_later_ones_do_not(loaded, capsys):
+    """A fresh clone's first plan waits on numba for minutes: the notebook's run prints why, the message line
+    says so while it waits; once warm, neither."""
+    view = HJView(loaded, "table3")
+    assert "numba compiles the lattice search" in capsys.readouterr().out and view.warm
+    shown = []
+    view.message.show = lambda text, kind="info": shown.append(text)
+    view.act(loaded.choose_scenario, "table1")
+    assert shown[0] == "working …"
+    view.warm = False
+    view.act(loaded.choose_scenario, "table3")
+    assert shown[-2].startswith("working … (first use: numba compiles") and view.warm
 

@@ -175,9 +175,16 @@ def test_pacer_costmap_matches_costmap_over_map(playground, parts):
     np.testing.assert_allclose(pacer_costmap(fast, amap.image, context, mask), expected, atol=1e-4)
 
 
-def test_missing_model_names_the_command(smoke_data, tmp_path):
-    with pytest.raises(DataError, match="artifacts build --only pacer_phase3"):
+def test_missing_models_are_named_at_once_with_one_command(smoke_data, tmp_path):
+    """Every stage the playground reads, missing, named in one line with the command for this profile and
+    these folders, and the smoke path (was: one stage per try, the command without --profile or folders)."""
+    with pytest.raises(DataError, match=(
+            rf"needs pacer_phase1, pacer_phase2, pacer_phase3, pacer_sterling \(profile smoke, not in {tmp_path}\): "
+            rf"build them with `python -m navlab artifacts build --profile smoke --data-dir {smoke_data} "
+            rf"--artifacts-dir {tmp_path} --only pacer_phase1 --only pacer_phase2 --only pacer_phase3 --only "
+            rf"pacer_sterling`; or, for a first look in minutes, the smoke profile")) as refused:
         PacerPlayground.load("smoke", smoke_data, tmp_path)
+    assert "\n" not in str(refused.value)
 
 
 def test_memo_keeps_the_most_recent_and_errors_are_one_line():

@@ -222,7 +222,8 @@ def test_notebook_scenario_points(playground):
 
 
 def test_missing_model_names_the_command(smoke_data, tmp_path):
-    with pytest.raises(DataError, match="artifacts build --only surenav_estimator"):
+    with pytest.raises(DataError, match=rf"--profile smoke --data-dir {smoke_data} --artifacts-dir {tmp_path} "
+                                        r"--only surenav_estimator`"):
         SuReNavPlayground.load("smoke", smoke_data, tmp_path)
 
 

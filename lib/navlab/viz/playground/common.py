@@ -15,7 +15,8 @@ import io
 import statistics
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Sequence
+from pathlib import Path
 from typing import Any, Literal
 
 import ipywidgets as widgets
@@ -24,11 +25,31 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.image import imsave
 
+from navlab.core.io import DataError
 from navlab.core.params import ParamsError
 
 Kind = Literal["info", "progress", "error"]
 ERROR_MARK = "✗"  # leads every refused or failed action's line (the browser test looks for it)
 COLOURS = {"info": "#1b5e20", "progress": "#555555", "error": "#b71c1c"}
+
+
+def require_built(needed: Sequence[tuple[str, Path]], profile: str, data_dir: str | Path,
+                   artifacts_dir: str | Path) -> None:
+    """Before a playground loads anything: every (stage, output) it reads, in build order; the missing ones
+    named at once, as one DataError line with the one command that builds them (this profile and these
+    folders), and the smoke path (minutes) for a first look. Loading one at a time named them one per try."""
+    missing = list(dict.fromkeys(stage for stage, path in needed if not Path(path).exists()))
+    if not missing:
+        return
+    only = " ".join(f"--only {stage}" for stage in missing)
+    smoke = "artifacts/smoke"
+    raise DataError(
+        f"this playground needs {', '.join(missing)} (profile {profile}, not in {artifacts_dir}): build them with "
+        f"`python -m navlab artifacts build --profile {profile} --data-dir {data_dir} --artifacts-dir "
+        f"{artifacts_dir} {only}`; or, for a first look in minutes, the smoke profile: `python -m navlab data "
+        f"build --profile smoke --data-dir {smoke}/data && python -m navlab artifacts build --profile smoke "
+        f"--data-dir {smoke}/data --artifacts-dir {smoke} {only}`, then set profile = \"smoke\", data_dir = "
+        f"\"{smoke}/data\", artifacts_dir = \"{smoke}\" in the parameters cell")
 
 
 class UserError(ValueError):
@@ -81,8 +102,13 @@ class PlaygroundView:
     """Base of a playground's widgets. Subclasses give :meth:`draw` (state -> widgets) and
     :meth:`status` (the line shown after a successful action); every click goes through :meth:`act`."""
 
+    # what the first action waits for, said while it waits (a fresh clone compiles numba code: minutes of a
+    # silent "working …" otherwise); "" where nothing is compiled
+    first_use = ""
+
     def __init__(self):
         self.message = MessageLine()
+        self.warm = not self.first_use
         # wall and CPU time of the last action, drawing included (the benchmark reads them; CPU time is what
         # the wall time would be on an idle machine, whatever else shares the cores)
         self.last_ms = self.last_cpu_ms = 0.0
@@ -97,6 +123,8 @@ class PlaygroundView:
         """The notebook's scenario (its papermill parameters), taken as a click is; a refused one stops the
         run with one line naming the parameters (a ParamsError, which the notebook shows without a traceback)
         instead of leaving a later cell to fail on a state that never was."""
+        if not self.warm:  # a cell's output while it runs: the message line is not on screen yet
+            print(f"{self.first_use} …", flush=True)
         if not self.act(action, *args):
             raise ParamsError(f"notebook parameter {parameters}: {self.message.text}")
 
@@ -105,11 +133,11 @@ class PlaygroundView:
         refused or failed. Actions check their input before they change the state, so a refused one
         leaves the state and the drawing as they were."""
         start, cpu = time.perf_counter(), time.process_time()
-        self.message.show("working …", "progress")
+        self.message.show("working …" if self.warm else f"working … ({self.first_use})", "progress")
         try:
             action(*args)
             self.draw()
-            done = True
+            done = self.warm = True
         except Exception as err:  # noqa: BLE001 - a widget callback must never end in a traceback
             self.message.show(one_line(err), "error")
             done = False

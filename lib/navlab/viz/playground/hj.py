@@ -42,7 +42,7 @@ from navlab.hj.pruners import human_pruner
 from navlab.hj.scenarios import ClosedLoop
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.brt_margin import MARGINS_SUBDIR
-from navlab.reach.precompute import load_human_brt, load_static_brt
+from navlab.reach.precompute import grid_path, load_human_brt, load_static_brt, specs
 from navlab.search.dubins_lattice import place, primitive_table
 from navlab.search.lattice_search import (
     NO_HUMAN,
@@ -58,7 +58,14 @@ from navlab.sim.humans import StraightWalker
 from navlab.sim.receding_horizon import Run, Trip, run_patrol
 from navlab.viz.hj_closed_loop import patrol_gif
 from navlab.viz.hj_scenes import brt_scene_html
-from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure_bytes, one_line
+from navlab.viz.playground.common import (
+    Memo,
+    PlaygroundView,
+    UserError,
+    figure_bytes,
+    one_line,
+    require_built,
+)
 
 MODES = ("start", "goal", "human")
 HEURISTICS = ("TTR", "Dist")
@@ -220,10 +227,14 @@ class HJPlayground:
         self.scenes = Memo(self._scene, size=4)
 
     @classmethod
-    def load(cls, profile: str, artifacts_dir: str | Path) -> HJPlayground:
-        """The playground on ``profile``'s value functions and BRT margins; a missing one stops with one line
-        naming the command that builds it."""
-        return cls(load_params(profile), artifacts_dir)
+    def load(cls, profile: str, artifacts_dir: str | Path, data_dir: str | Path = "data") -> HJPlayground:
+        """The playground on ``profile``'s value functions and BRT margins; missing ones stop with one line
+        naming them all and the command that builds them (``data_dir``: only for that command)."""
+        params = load_params(profile)
+        require_built([*(("hj_grids", grid_path(artifacts_dir, spec.name)) for spec in specs(params)),
+                       *(("hj_margins", Path(artifacts_dir, MARGINS_SUBDIR, f"brt_margin_{room}.json"))
+                         for room in params.hj.grids.rooms)], params.profile, data_dir, artifacts_dir)
+        return cls(params, artifacts_dir)
 
     # --- choices ------------------------------------------------------------------------------------
     def choose_scenario(self, key: str | None) -> None:
@@ -639,6 +650,9 @@ def summary_html(playground: HJPlayground) -> str:
 class HJView(PlaygroundView):
     """The widgets of the HJ playground: set-up menu, click mode, sliders and option menus, the clickable
     room figure, the plan's summary and the closed loop's controls and playback."""
+
+    first_use = ("first use: numba compiles the lattice search and the pruners, a few minutes in a fresh clone "
+                 "and under a minute once its cache is written; later clicks answer in a second")
 
     def __init__(self, playground: HJPlayground, scenario: str | None = None):
         super().__init__()

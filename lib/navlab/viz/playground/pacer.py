@@ -40,6 +40,7 @@ from navlab.core.seeding import rng
 from navlab.maps.dataset import load_maps
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.pacer.aerial import AerialMap, aerial_map
+from navlab.pacer.artifacts import phase_dir
 from navlab.pacer.baselines.sterling import SterlingEncoder, load_sterling
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import context_patch, pair_context
@@ -47,9 +48,16 @@ from navlab.pacer.evaluate import plan_on_costmap, stitch_windows
 from navlab.pacer.experiments import map_context, sterling_method, window_oracle_method
 from navlab.pacer.preferences import environment_tiers
 from navlab.pacer.terrain import TerrainBank, load_terrain_bank
-from navlab.pacer.train import load_model
+from navlab.pacer.train import PHASES, load_model
 from navlab.viz.pacer import context_strip, show_costmap, show_paths
-from navlab.viz.playground.common import Memo, PlaygroundView, UserError, array_png, figure_bytes
+from navlab.viz.playground.common import (
+    Memo,
+    PlaygroundView,
+    UserError,
+    array_png,
+    figure_bytes,
+    require_built,
+)
 
 GROUPS = ("seen", "unseen")
 COLOURS = {"PACER": "tab:blue", "STERLING-style": "tab:orange", "Window oracle": "tab:green"}
@@ -169,6 +177,9 @@ class PacerPlayground:
         with one line naming the command that builds it. It runs on the CPU (its 1 s budget is the 2-core
         machine's) at the profile's torch thread count, as the PACER notebooks do."""
         params = load_params(profile)
+        require_built([*((f"pacer_{phase}", phase_dir(artifacts_dir, phase) / "model.pt") for phase in PHASES),
+                       ("pacer_sterling", phase_dir(artifacts_dir, "sterling") / "encoder.pt")],
+                      params.profile, data_dir, artifacts_dir)
         torch.set_num_threads(params.pacer.train.threads)
         artifacts = Path(artifacts_dir) / "pacer"
         # channels-last weights: oneDNN's convolutions then run in 60 % of the CPU time (costs equal to ~1e-5)

@@ -42,10 +42,12 @@ from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.navigation import path_length, risk_table, total_risk
 from navlab.metrics.relaxation import relaxed_regions
+from navlab.surenav.artifacts import model_path
 from navlab.surenav.benchmark import (
     BASELINES,
     EXPERT,
     SURENAV,
+    VARIANT,
     Learned,
     make_policy,
     seed_run,
@@ -56,7 +58,7 @@ from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.experts.store import load_demos
 from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.windows import walk
-from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure_bytes
+from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure_bytes, require_built
 from navlab.viz.surenav_benchmark import COLOURS as METHOD_COLOURS
 
 MODES = ("start", "goal", "close / open superpixel")
@@ -135,6 +137,8 @@ class SuReNavPlayground:
         """The playground on ``profile``'s test tiles and trained estimator (first seed); a missing input stops
         with one line naming the command that builds it. Torch runs on the profile's thread count."""
         params = load_params(profile)
+        require_built([("surenav_estimator", model_path(artifacts_dir, VARIANT[SURENAV], params.surenav.train.seeds[0]))],
+                      params.profile, data_dir, artifacts_dir)
         torch.set_num_threads(params.surenav.train.threads)
         maps = load_maps(data_dir, "test")
         stored = {md.map_name: md for md in load_demos(data_dir, "test")}
@@ -437,6 +441,9 @@ class SuReNavView(PlaygroundView):
     """The widgets of the SuReNav playground: tile menu, click mode, the Psi toggle, the clickable map
     (an ipympl canvas under ``%matplotlib widget``, else a static image), every method's panel and the
     metrics table. Map clicks arrive as matplotlib ``button_press_event`` and go through :meth:`act`."""
+
+    first_use = ("first use: numba compiles the planners (D* Lite, COA*, the graph search), about a minute in a "
+                 "fresh clone and seconds once its cache is written")
 
     def __init__(self, playground: SuReNavPlayground):
         super().__init__()
