@@ -60,7 +60,11 @@ def test_every_set_up_plans(loaded):
 def test_clicks_set_start_goal_and_humans(view):
     p = view.playground
     drawn, plan = view.result.value, p.plan()
+    assert view.replay.layout.display == "none"  # no empty image (a broken-image icon) before a closed loop
+    view.mode.value = "human"
+    assert view.message.text.endswith("next click sets the human")  # the line follows the toggle
     view.mode.value = "start"
+    assert view.message.text.endswith("next click sets the start")
     press(view, 1.0, 1.0)
     assert view.message.kind == "info", view.message.text
     assert p.setup.start[:2] == pytest.approx((1.0, 1.0), abs=1e-3) and view.result.value != drawn

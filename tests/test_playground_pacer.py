@@ -27,6 +27,7 @@ from navlab.viz.playground.pacer import (
     PacerView,
     find_cycle,
     ordering_from_pairs,
+    outcome_figure,
     pacer_costmap,
 )
 
@@ -159,8 +160,28 @@ def test_widgets_drive_the_playground(playground):
     assert view.message.kind == "error" and "choose a map" in view.message.text
     view.maps.value = "unseen 1"
     assert playground.choice == ("unseen", 1) and playground.pairs == ()
-    assert {playground.name(t) for t in playground.candidates()} == {c.children[1].description
-                                                                     for c in view.gallery.children}
+    assert "your 1 pair(s) named the other group's terrains and were cleared" in view.message.text  # said
+    labels = [c.children[1].description for c in view.gallery.children]
+    assert set(labels) == {playground.name(t) for t in playground.candidates()} and len(set(labels)) == len(labels)
+    for card in view.gallery.children:  # each button wide enough for its whole name (was "mono_…" three times)
+        button = card.children[1]
+        assert int(button.layout.width.removesuffix("px")) >= 8 * len(button.description) + 16
+
+
+def test_a_refused_pair_leaves_no_terrain_highlighted(playground):
+    view = PacerView(playground, "seen 0", "uninformative")
+    cards = view.gallery.children
+    cards[0].children[1].click()
+    assert cards[0].children[1].button_style == "warning"
+    cards[0].children[1].click()  # the same terrain again: refused, and the pick is cleared
+    assert view.message.kind == "error" and playground.pending is None
+    assert all(card.children[1].button_style != "warning" for card in cards)
+
+
+def test_the_result_figure_has_a_cost_colour_bar(playground):
+    fig = outcome_figure(playground.outcome(), "seen 0")
+    bars = [ax for ax in fig.axes if ax.get_ylabel().startswith("cost (0 cheap")]
+    assert len(bars) == 1 and len(fig.axes) == 2 + len(playground.outcome().costmaps)
 
 
 def test_pacer_costmap_matches_costmap_over_map(playground, parts):

@@ -194,8 +194,10 @@ def test_map_clicks_and_widgets_drive_the_playground(playground):
                                          MouseEvent("button_press_event", view.figure.canvas, 1, 1, button=1))
     assert view.message.kind == "error" and "click inside the map" in view.message.text  # the figure's margin
     plain = view.canvas.value
+    assert not view._psi_bar.ax.get_visible()
     view.costs.value = True
     assert playground.show_costs and view.canvas.value != plain and "Ψ shown" in view.message.text
+    assert view._psi_bar.ax.get_visible() and view._psi_bar.mappable.norm.vmax > 0  # Ψ's colour bar, with it
     assert view.canvas.value != canvas
     last = playground.tiles()[-1]
     view.tiles.value = last
@@ -237,4 +239,10 @@ def test_a_bad_notebook_scenario_stops_with_one_line_naming_the_parameter(playgr
     point off the map (or no point) stops the run with one line naming the parameters."""
     with pytest.raises(ParamsError, match=message):
         SuReNavView(playground).start(None, start, None, [])
+
+
+def test_closed_and_relaxed_superpixels_are_told_apart():
+    from navlab.viz.playground.surenav import CLOSED_RGBA, RELAXED_RGBA
+
+    assert np.abs(np.subtract(CLOSED_RGBA[:3], RELAXED_RGBA[:3])).max() > 0.4  # dark red vs amber, not red twice
 

@@ -634,6 +634,9 @@ def draw_setup(fig: Figure, playground: HJPlayground) -> None:
         ax.legend(fontsize=6, loc="lower right", framealpha=0.8, handletextpad=0.2, borderpad=0.3)
 
 
+CELL = 'style="padding:1px 12px 1px 0;text-align:left"'  # the census table's cells: headers apart, not run together
+
+
 def summary_html(playground: HJPlayground) -> str:
     """The plan (status, expansions, time, cost, clearance) and the census as a small table."""
     out, census = playground.plan(), playground.census()
@@ -641,10 +644,11 @@ def summary_html(playground: HJPlayground) -> str:
     plan = (f"<b>plan</b>: {r.status}, {r.expansions:,} expansions, {1000 * r.seconds:.0f} ms search"
             + (f", cost {r.cost:.2f} s, {len(r.controls)} steps, densified clearance {out.clearance:.3f} m"
                if r.found else ""))
-    rows = "".join(f"<tr><td>{name}</td><td>{census.removed[name]:,} of {census.total:,}</td>"
-                   f"<td>{census.on_plan[name]:,} of {census.plan_total:,}</td></tr>" for name in census.removed)
-    return (f"<div>{plan}</div><table><tr><th>pruner</th><th>successors removed on the slice</th>"
-            f"<th>of the plan's states' successors</th></tr>{rows}</table>")
+    rows = "".join(f"<tr><td {CELL}>{name}</td><td {CELL}>{census.removed[name]:,} of {census.total:,}</td>"
+                   f"<td {CELL}>{census.on_plan[name]:,} of {census.plan_total:,}</td></tr>" for name in census.removed)
+    head = "".join(f"<th {CELL}>{h}</th>" for h in ("pruner", "successors removed on the slice",
+                                                     "of the plan's states' successors"))
+    return f"<div>{plan}</div><table><tr>{head}</tr>{rows}</table>"
 
 
 class HJView(PlaygroundView):
@@ -678,6 +682,7 @@ class HJView(PlaygroundView):
                             (self.speed, "navlab-speed")):
             widget.add_class(css)
         self.scenarios.observe(lambda c: self._forward(p.choose_scenario, c["new"]), names="value")
+        self.mode.observe(lambda c: self.message.show(self.status()) if p.setup is not None else None, names="value")
         self.heading.observe(lambda c: self._forward(p.set_heading, c["new"]), names="value")
         self.human_heading.observe(lambda c: self._forward(p.set_human_heading, c["new"]), names="value")
         self.speed.observe(lambda c: self._forward(p.set_speed, c["new"]), names="value")
@@ -689,7 +694,8 @@ class HJView(PlaygroundView):
         self.result.add_class("navlab-result")
         self.summary = widgets.HTML()
         self.summary.add_class("navlab-summary")
-        self.replay = widgets.Image(format="gif", layout=widgets.Layout(width="560px"))
+        # hidden until a closed loop has run (an empty image shows as a broken-image icon)
+        self.replay = widgets.Image(format="gif", layout=widgets.Layout(width="560px", display="none"))
         self.replay.add_class("navlab-replay")
         self.scene = widgets.HTML()  # the meshcat scene, in an iframe (its own page: three.js, no kernel link)
         self.scene.add_class("navlab-scene")
@@ -775,6 +781,7 @@ class HJView(PlaygroundView):
             self.message.show(one_line(err), "error")
             return
         self.replay.value = replay.gif
+        self.replay.layout.display = None
         self.message.show(f"closed loop: {replay.outcome}; its playback is below "
                           f"({time.perf_counter() - began:.1f} s to simulate and render)")
 

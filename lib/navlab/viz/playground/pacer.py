@@ -366,8 +366,11 @@ def outcome_figure(outcome: PacerOutcome, title: str) -> Figure:
     show_paths(axes[0], amap.image, [(outcome.paths[m], COLOURS[m], m) for m in outcome.costmaps],
                amap.start, amap.goal, title)
     for ax, (name, costmap) in zip(axes[1:], outcome.costmaps.items()):
-        show_costmap(ax, costmap, f"{name} costmap", [(outcome.paths[name], COLOURS[name])])
-    fig.subplots_adjust(left=0.01, right=0.99, bottom=0.02, top=0.92, wspace=0.04)  # tight_layout: +60 ms
+        image = show_costmap(ax, costmap, f"{name} costmap", [(outcome.paths[name], COLOURS[name])])
+    fig.subplots_adjust(left=0.01, right=0.95, bottom=0.02, top=0.92, wspace=0.04)  # tight_layout: +60 ms
+    bar = fig.colorbar(image, cax=fig.add_axes((0.955, 0.1, 0.01, 0.75)))
+    bar.set_label("cost (0 cheap, 1 avoided)", fontsize=8)
+    bar.ax.tick_params(labelsize=7)
     return fig
 
 
@@ -437,7 +440,18 @@ class PacerView(PlaygroundView):
 
     def _on_map(self, change) -> None:
         if not self._syncing:
-            self.act(self.playground.choose_map, change["new"])
+            dropped = self.playground.pairs
+            if self.act(self.playground.choose_map, change["new"]) and dropped and not self.playground.pairs:
+                self.message.show(f"{self.message.text}; your {len(dropped)} pair(s) named the other group's "
+                                  "terrains and were cleared")
+
+    def act(self, action, *args) -> bool:
+        """As every view's, and a refused pair leaves no terrain highlighted as if still picked (the refusal
+        cleared the pick)."""
+        done = super().act(action, *args)
+        if not done and self.playground.choice is not None:
+            self._draw_gallery()
+        return done
 
     def status(self) -> str:
         p = self.playground
@@ -468,8 +482,9 @@ class PacerView(PlaygroundView):
 
     def _thumb_card(self, terrain: int) -> widgets.VBox:
         image = widgets.Image(value=self._thumbs(int(terrain), 56), format="png", layout=widgets.Layout(width="56px"))
-        return widgets.VBox([image, self.button(self.playground.name(terrain), self.playground.pick, int(terrain),
-                                                css="navlab-terrain", width="80px")])
+        name = self.playground.name(terrain)  # wide enough for the whole name ("mono_gravel", not "mono_…")
+        return widgets.VBox([image, self.button(name, self.playground.pick, int(terrain), css="navlab-terrain",
+                                                width=f"{max(80, 8 * len(name) + 24)}px")])
 
     def _pair_row(self, k: int, a: int, b: int) -> widgets.HBox:
         p = self.playground

@@ -28,6 +28,7 @@ import ipywidgets as widgets
 import numpy as np
 import torch
 from matplotlib import colormaps
+from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from skimage.segmentation import find_boundaries
@@ -67,7 +68,7 @@ METHODS = (SURENAV, *BASELINES, *EXPERTS)  # the panels, in order
 COLOURS = {**{m: METHOD_COLOURS[m] for m in (SURENAV, *BASELINES)},
            **dict(zip(EXPERTS, ("black", "0.35", "0.6"), strict=True))}
 CLOSED_RGBA = (0.55, 0.0, 0.0, 0.85)  # a closed superpixel: the new obstacle
-RELAXED_RGBA = (0.9, 0.1, 0.1, 0.45)  # a relaxed superpixel (soft ground the method walked on)
+RELAXED_RGBA = (1.0, 0.65, 0.0, 0.5)  # a relaxed superpixel (soft ground the method walked on): amber, not red
 Cell = tuple[int, int]
 
 
@@ -360,7 +361,7 @@ def overlay(mask: np.ndarray, rgba: tuple[float, float, float, float]) -> np.nda
 
 
 def outcome_figure(outcome: SuReNavOutcome, smap: SemanticMap, superpixels: np.ndarray, pad_m: float = 15.0) -> Figure:
-    """Every method's panel (the true map around the paths, its relaxed superpixels red, closed ones dark
+    """Every method's panel (the true map around the paths, its relaxed superpixels amber, closed ones dark
     red, its executed path), then all paths together."""
     box = crop_box(outcome, smap.labels.shape, int(np.ceil(pad_m / smap.frame.resolution)))
     view = smap.crop(*box, labels=outcome.truth)
@@ -474,7 +475,7 @@ class SuReNavView(PlaygroundView):
             p.outcomes(tile, start, goal, closed), p.maps[tile], p.superpixels[tile]), "jpeg"))
         self._tile_drawn: str | None = None
         self.widget = widgets.VBox([widgets.HBox([self.tiles, self.costs, reopen]), self.modes, self.message.widget,
-                                    widgets.HBox([self.canvas, self.table]), self.result])
+                                    self.canvas, self.table, self.result])  # the table under the map: never clipped
 
     def start(self, tile: str | None = None, start=None, goal=None, closed="midway") -> None:
         """The notebook's scenario (see ``SuReNavPlayground.set_scenario``); the menu follows. A refused one
@@ -553,6 +554,10 @@ class SuReNavView(PlaygroundView):
         self._base = ax.imshow(np.zeros((1, 1, 3)), interpolation="nearest")
         self._edges = ax.imshow(np.zeros((1, 1, 4)), interpolation="nearest")
         self._psi = ax.imshow(np.zeros((1, 1, 4)), interpolation="nearest")
+        self._psi_bar = fig.colorbar(ScalarMappable(Normalize(0.0, 1.0), "magma_r"),
+                                     cax=fig.add_axes((0.9, 0.12, 0.02, 0.3)))
+        self._psi_bar.set_label("Ψ (bright: cheap to relax)", fontsize=7)
+        self._psi_bar.ax.tick_params(labelsize=6)
         self._lines = {m: ax.plot([], [], color=COLOURS[m], linewidth=1.2, label=m)[0] for m in METHODS}
         self._ends = [ax.plot([], [], "o", color="tab:green", markersize=8, markeredgecolor="black")[0],
                       ax.plot([], [], "*", color="gold", markersize=13, markeredgecolor="black")[0]]
@@ -574,8 +579,11 @@ class SuReNavView(PlaygroundView):
         image[closed] = CLOSED_RGBA[:3]
         self._base.set_data(image)
         self._psi.set_visible(p.show_costs)
+        self._psi_bar.ax.set_visible(p.show_costs)
         if p.show_costs:
-            self._psi.set_data(psi_overlay(p.costs()))
+            rgba, top = psi_overlay(p.costs())
+            self._psi.set_data(rgba)
+            self._psi_bar.mappable.set_norm(Normalize(0.0, top))
         for method, line in self._lines.items():
             xy = frame.cell_to_world(outcome.runs[method].cells)
             line.set_data(xy[:, 0], xy[:, 1])
@@ -588,14 +596,16 @@ class SuReNavView(PlaygroundView):
             self.figure.canvas.draw_idle()
 
 
-def psi_overlay(costs: Costs) -> np.ndarray:
-    """RGBA raster of Psi on the window's soft superpixels (``magma_r``: bright = cheap to relax), as Fig. 6."""
+def psi_overlay(costs: Costs) -> tuple[np.ndarray, float]:
+    """(RGBA raster of Psi on the window's soft superpixels, the Psi its colour scale ends at): ``magma_r``,
+    bright = cheap to relax, as Fig. 6."""
     graph = costs.graph
     soft = np.isin(graph.node_label[costs.nodes], SOFT_IDS)
     value = np.full(graph.num_nodes, np.nan)
     value[costs.nodes[soft]] = costs.psi[soft]
     raster = np.where(graph.node_raster >= 0, value[np.maximum(graph.node_raster, 0)], np.nan)
     top = float(np.nanmax(value)) if soft.any() else 1.0
-    rgba = colormaps["magma_r"](Normalize(0.0, max(top, 1e-9))(np.nan_to_num(raster)))
+    top = max(top, 1e-9)
+    rgba = colormaps["magma_r"](Normalize(0.0, top)(np.nan_to_num(raster)))
     rgba[..., 3] = np.where(np.isnan(raster), 0.0, 0.85)
-    return rgba
+    return rgba, top
