@@ -4,6 +4,7 @@ fingerprint trained models key on, the aerial maps and the navigation tables."""
 
 from __future__ import annotations
 
+import hashlib
 import re
 import shutil
 
@@ -16,7 +17,7 @@ from navlab.core.params import ParamsError, repo_root
 from navlab.pacer.aerial import aerial_maps
 from navlab.pacer.artifacts import phase_inputs
 from navlab.pacer.experiments import navigation_rows, pacer_method, uniform_method, window_oracle_method
-from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photos_fingerprint
+from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photo_digests, photos_fingerprint
 from navlab.pacer.train import load_model
 from navlab.pipeline.profile_check import pacer_data_problems
 from pacer_support import with_pacer_data
@@ -89,12 +90,16 @@ def test_a_replaced_photograph_changes_what_models_key_on(own_params, smoke_data
     data = own_params.pacer.data
     before, inputs = photos_fingerprint(smoke_data, data), phase_inputs(own_params, smoke_data)["terrain"]
     assert inputs == before
+    recorded = photo_digests(smoke_data, data)  # what a phase writes beside its model, photograph by photograph
+    assert recorded[f"{OWN_PHOTOS}/planks.png"] == hashlib.sha256((tmp_path / OWN_PHOTOS / "planks.png").read_bytes()).hexdigest()
     old = load_terrain_bank(smoke_data, data)
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "unlisted.png"), _texture(0, 192, 9))  # not in params: not read
     assert photos_fingerprint(smoke_data, data) == before
     path = tmp_path / OWN_PHOTOS / "planks.png"
     cv2.imwrite(str(path), _texture(0, 192, 7))  # same name, new content
     assert photos_fingerprint(smoke_data, data) != before
+    changed = photo_digests(smoke_data, data)
+    assert [s for s in recorded if recorded[s] != changed[s]] == [f"{OWN_PHOTOS}/planks.png"]
     new = load_terrain_bank(smoke_data, data)
     planks = new.id_of("planks")
     assert not np.array_equal(new.image_parts[planks][0][0], old.image_parts[planks][0][0])  # read anew

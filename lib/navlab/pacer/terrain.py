@@ -172,6 +172,12 @@ def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
     return source_fingerprint((source, photo_path(data_dir, source)) for source in sources)
 
 
+def photo_digests(data_dir: str | Path, params: PacerDataParams) -> dict[str, str]:
+    """{source: sha256 of its bytes} of every photograph the bank reads: what a trained phase records beside
+    its model (``photographs.json``), so a later change to a photograph of your own is seen by name."""
+    return {source: sha256_file(photo_path(data_dir, source)) for source in sorted({s for _, s in listed_photos(params)})}
+
+
 def is_own_photo(source: str) -> bool:
     """Whether ``source`` is a photograph of your own (in the checkout's ``terrain_photos/``, not data/)."""
     return Path(source).parts[:1] == (OWN_PHOTOS,)
