@@ -11,14 +11,15 @@ import pytest
 import torch
 
 from navlab.core.seeding import rng
+from navlab.metrics.intervals import bootstrap_mean_ci
+from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.claims import CLAIMS, PAPER, gap_closed, gap_fraction, seen_claims, unseen_claims
-from navlab.pacer.experiments import Agreement, NavigationResult, mean_margin_ranking_error
+from navlab.pacer.experiments import Agreement, NavigationResult, margin_ranking_errors
 from navlab.pacer.recognition import RECOGNITION_CONTEXT, true_terrains_name
 from navlab.pacer.tables import (
     LIMITED,
     ORACLE,
     UNIFORM,
-    margin_ranking_errors,
     margin_rows,
     navigation_tables,
     phase_tables,
@@ -147,13 +148,16 @@ class RandomCostmaps(torch.nn.Module):
         return image[:, 0]
 
 
-def test_table5_rows_from_per_item_errors_equal_the_mean_and_interval_of_experiments():
+def test_table5_rows_are_the_mean_and_interval_of_the_per_item_errors():
     gen = rng(0, "test.pacer.tables.items")
     items = [{"image": torch.as_tensor(gen.uniform(size=(3, 24, 24)), dtype=torch.float32),
               "context": torch.zeros(9, 8, 4), "labels": torch.as_tensor(gen.integers(0, 3, (24, 24))),
               "ordering": torch.as_tensor([2, 0, 1])} for _ in range(6)]
     errors = margin_ranking_errors(RandomCostmaps(), items, 5, 40, 7)
     assert errors.shape == (5,)
-    mean, ci = mean_margin_ranking_error(RandomCostmaps(), items, 5, 40, 7)
+    for i, item in enumerate(items[:5]):  # item i's points are seeded by i alone: every model sees the same
+        assert errors[i] == margin_ranking_error(item["image"][0].numpy(), item["labels"].numpy(),
+                                                 item["ordering"].numpy(), 40, rng=rng(7, "pacer.margin_ranking", i))
     row = margin_rows({"D_real": {"real": errors}}, 7)[0]
-    assert (row["test_real"], row["test_real_ci"]) == (mean, ci)  # identical numbers, only the units are kept
+    assert row["test_real"] == pytest.approx(errors.mean())
+    assert row["test_real_ci"] == [round(v, 5) for v in bootstrap_mean_ci(errors, rng(7, "pacer.margin_ranking.ci"))]

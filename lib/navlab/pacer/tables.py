@@ -11,14 +11,12 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-import torch
-from torch.utils.data import Dataset
 
 from navlab.core.params.pacer import PacerParams
 from navlab.core.seeding import rng
+from navlab.metrics.claims import Claim
 from navlab.metrics.intervals import bootstrap_mean_ci
-from navlab.metrics.margin_ranking import margin_ranking_error
-from navlab.metrics.tables import Claim, Table
+from navlab.metrics.tables import Table
 from navlab.pacer.claims import (
     LIMITED,
     ORACLE,
@@ -196,25 +194,9 @@ def _context_following_notes(pacer: PacerParams, summaries: Mapping[str, dict]) 
             + recognition_note(d))
 
 
-def margin_ranking_errors(model: torch.nn.Module, dataset: Dataset, count: int, points: int, seed: int,
-                          device: str = "cpu") -> np.ndarray:
-    """Table V's per-item margin ranking errors of ``model`` on the first ``count`` items of ``dataset``,
-    ``points`` sampled pixels each, the points of item i seeded by i alone (so every model is scored on the
-    same points: the claims pair by item). The same measurement as ``experiments.mean_margin_ranking_error``,
-    which keeps only the mean and its interval (``margin_rows`` makes those from these, identically)."""
-    model.eval()
-    errors = []
-    for i in range(min(count, len(dataset))):
-        item = dataset[i]
-        pred = model.costmap(item["image"][None].to(device), item["context"][None].to(device))[0].cpu().numpy()
-        errors.append(margin_ranking_error(pred, np.asarray(item["labels"]), np.asarray(item["ordering"]), points,
-                                           rng=rng(seed, "pacer.margin_ranking", i)))
-    return np.asarray(errors)
-
-
 def margin_rows(errors: Mapping[str, Mapping[str, np.ndarray]], seed: int) -> list[dict]:
-    """Table V's rows from ``errors[model][test set]`` (``margin_ranking_errors``): each cell the mean over
-    items with a bootstrap 95% interval over items."""
+    """Table V's rows from ``errors[model][test set]`` (``experiments.margin_ranking_errors``): each cell the
+    mean over items with a bootstrap 95% interval over items."""
     rows = []
     for model, by_set in errors.items():
         row: dict = {"model": model}
@@ -232,7 +214,7 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
     """Tables III (seen) and IV (unseen): each training phase's tier shares under both preferences; Table V:
     margin ranking error on each training set's test split; ``context_following``: held-out agreement and
     the map-window metrics. ``results`` by (environment, preference), ``agreement`` by (model, environment,
-    preference, context draw), ``margin_errors`` by model then test set (per item, ``margin_ranking_errors``),
+    preference, context draw), ``margin_errors`` by model then test set (per item, ``experiments.margin_ranking_errors``),
     ``summaries`` by model in phase order (each phase's ``summary.json``)."""
     setup = protocol_note(pacer.data, pacer.evaluation, profile)
 
