@@ -97,9 +97,9 @@ def earlier_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
     return [c for c in report.get("claims") or [] if "source" not in c]
 
 
-# The tracks whose claims registry has landed (each module holds CLAIMS). SuReNav's and PACER's are written
-# (commits 37d2759 and ad25ba8) and join when their stages re-run under them.
-CLAIM_MODULES = {"hj": "navlab.hj.claims"}
+# The tracks whose claims registry has landed (each module holds CLAIMS). PACER's is written (commits a5e9ee9
+# and 04204d3) and joins when its stages re-run under it.
+CLAIM_MODULES = {"surenav": "navlab.surenav.claims", "hj": "navlab.hj.claims"}
 
 
 def registries() -> dict[str, dict[str, PaperClaim]]:
