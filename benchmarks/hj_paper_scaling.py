@@ -65,7 +65,7 @@ def steps_to_horizon(kind: str, scale: float) -> int:
     return math.ceil(horizon * rate / settings.cfl)
 
 
-def worker(kind: str, scale: float, steps: int, threads: int) -> dict:
+def worker(kind: str, scale: float, steps: int, threads: int, compile: bool = True) -> dict:
     """Time ``steps`` solver steps (after a compiling warm-up) on the scaled grid; peak RSS of this process."""
     import torch
 
@@ -84,7 +84,7 @@ def worker(kind: str, scale: float, steps: int, threads: int) -> dict:
     initial = torch.as_tensor(surface, dtype=torch.float32)[:, :, None, None].expand(grid.shape).contiguous()
     state = [grid.mesh(d, "cpu", torch.float32) for d in range(grid.ndim)]
     dt = settings.cfl / max_rate(dissipation_coefficients(car, grid, state, settings.dissipation), grid)
-    backend = Backend(device="cpu", progress=False, compile=True)
+    backend = Backend(device="cpu", progress=False, compile=compile)
     solve(car, grid, initial, 2 * dt, settings, backend=backend)  # compiles the Hamiltonian for this shape
     start = time.perf_counter()
     solution = solve(car, grid, initial, steps * dt * (1 - 1e-6), settings, backend=backend)
@@ -94,11 +94,12 @@ def worker(kind: str, scale: float, steps: int, threads: int) -> dict:
             "peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
 
 
-def measure(kind: str, scales: list[float], steps: int, threads: int) -> list[dict]:
+def measure(kind: str, scales: list[float], steps: int, threads: int, compile: bool = True) -> list[dict]:
     rows = []
     for scale in scales:
         out = subprocess.run([sys.executable, __file__, "--worker", kind, str(scale), "--steps", str(steps),
-                              "--threads", str(threads)], capture_output=True, text=True, check=True)
+                              "--threads", str(threads), *([] if compile else ["--eager"])],
+                             capture_output=True, text=True, check=True)
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
         r = rows[-1]
         print(f"  {kind} {'x'.join(map(str, r['shape']))}: {r['cells'] / 1e6:.1f} M cells, "
@@ -134,13 +135,14 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=6, help="timed steps per fraction (after the warm-up)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--kinds", nargs="+", default=["ttr", "static_brt"], choices=["ttr", "static_brt"])
+    parser.add_argument("--eager", action="store_true", help="do not compile the Hamiltonian (a quick check only)")
     parser.add_argument("--worker", nargs=2, metavar=("KIND", "SCALE"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
-        print(json.dumps(worker(args.worker[0], float(args.worker[1]), args.steps, args.threads)))
+        print(json.dumps(worker(args.worker[0], float(args.worker[1]), args.steps, args.threads, not args.eager)))
         return
     for kind in args.kinds:
-        rows = measure(kind, args.scales, args.steps, args.threads)
+        rows = measure(kind, args.scales, args.steps, args.threads, not args.eager)
         print(extrapolate(kind, rows, args.threads), flush=True)
 
 

@@ -52,6 +52,7 @@ RUNS = {
                            "--out", "{out}/context.json"],
     "surenav_workers.py": ["--profile", "smoke", "--every", "30", "--data", "{data}", "--artifacts", "{artifacts}"],
     "surenav_estimator_fit.py": ["train", "--epochs", "1", "--profile", "smoke", "--artifacts", "{artifacts}"],
+    "hj_paper_scaling.py": ["--scales", "0.03", "0.04", "--steps", "1", "--kinds", "static_brt", "--eager"],
 }
 # script -> why it is only imported here
 IMPORTED_ONLY = {
