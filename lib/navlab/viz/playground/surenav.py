@@ -238,10 +238,14 @@ class SuReNavPlayground:
                     for k, (name, xy) in enumerate((("start", start), ("goal", goal)))]
             self._check_ends(*ends, frozenset())
             self.start, self.goal = ends
-            points = [] if closed == "midway" else _literal("closed", closed) or ()
-            if not isinstance(points, list | tuple):
-                raise UserError(f"closed = {closed!r}: give \"midway\" or a list of (x, y) points, e.g. [[120, 80]]")
-            for cell in [self.midway()] if closed == "midway" else [self.cell_at(*_point("closed", xy)) for xy in points]:
+            if closed == "midway":
+                cells = [self.midway()]
+            else:
+                points = _literal("closed", closed) or ()
+                if not isinstance(points, list | tuple):
+                    raise UserError(f"closed = {closed!r}: give \"midway\" or a list of (x, y) points, e.g. [[120, 80]]")
+                cells = [self.cell_at(*_point("closed", xy)) for xy in points]
+            for cell in cells:
                 self.toggle(cell)
         except UserError:
             self.tile, self.start, self.goal, self.closed = before  # refused as a whole
