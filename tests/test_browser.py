@@ -42,6 +42,10 @@ CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic
                   "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 SCREENSHOTS = repo_root() / ".screenshots" / "browser"
 STALL_S = 900  # hang guard only (a smoke notebook takes seconds); not a speed limit
+# A click's answer: seconds once numba's cache is written, but a click that reaches a compiled function with new
+# argument types compiles it first (the HJ playground's first human: 2 min on an idle 2-core machine, more on a
+# loaded one; CI of b9e2acf timed out at 120 s). A hang guard, not a speed limit.
+CLICK_STALL_S = 600
 # JupyterLab settings of the clean settings folder: no autosave (the checkout's notebooks stay as
 # committed), no news / update checks (no network), and every cell laid out (windowing mode "none"): the
 # default, "contentVisibility", skips laying out cells out of view, so a widget there has no box until a
@@ -311,14 +315,14 @@ def click_widget(page: Page, selector: str, nth: int = 0, redraws: bool = True) 
     before = page.evaluate(_RESULT_DIGEST_JS)
     message = page.locator(".navlab-playground-message").first.inner_text()
     page.locator(selector).nth(nth).click()
-    deadline = time.monotonic() + 120
+    deadline = time.monotonic() + CLICK_STALL_S
     while time.monotonic() < deadline:
         digest = page.evaluate(_RESULT_DIGEST_JS)
         if (digest != before) if redraws else (page.locator(".navlab-playground-message").first.inner_text() != message):
             break
         time.sleep(0.2)
     else:
-        raise AssertionError(f"{selector} #{nth}: nothing redrawn within 120 s; message: "
+        raise AssertionError(f"{selector} #{nth}: nothing redrawn within {CLICK_STALL_S} s; message: "
                              f"{page.locator('.navlab-playground-message').first.inner_text()}")
     _wait(page, "s.kernel === 'idle' && !s.busy", 60)
     return page.evaluate(_RESULT_DIGEST_JS)
@@ -436,7 +440,7 @@ def click_room(page: Page, x: float, y: float) -> str:
     before = page.evaluate(_CANVAS_DIGEST_JS)
     position = {"x": box["width"] * (left + width * x / 9.6), "y": box["height"] * (1 - bottom - height * y / 5.4)}
     page.locator(".navlab-result .jupyter-matplotlib-canvas-div").first.click(position=position)
-    deadline = time.monotonic() + 120
+    deadline = time.monotonic() + CLICK_STALL_S
     while page.evaluate(_CANVAS_DIGEST_JS) == before:
         message = page.locator(".navlab-playground-message").first.inner_text()
         assert time.monotonic() < deadline, f"the click at ({x:.1f}, {y:.1f}) redrew nothing; message: {message}"
@@ -494,10 +498,10 @@ def click_map(page: Page, fraction: tuple[float, float]) -> str | None:
     position = {"x": box["x"] - div["x"] + fraction[0] * box["width"],
                 "y": box["y"] - div["y"] + (1 - fraction[1]) * box["height"]}
     canvas.click(position=position)
-    clicked, deadline = time.monotonic(), time.monotonic() + 120
+    clicked, deadline = time.monotonic(), time.monotonic() + CLICK_STALL_S
     while page.evaluate(_RESULT_DIGEST_JS) == before:
         if time.monotonic() > deadline:
-            raise AssertionError(f"map click at {fraction}: nothing redrawn within 120 s; message: "
+            raise AssertionError(f"map click at {fraction}: nothing redrawn within {CLICK_STALL_S} s; message: "
                                  f"{line.inner_text()}")
         if time.monotonic() - clicked > 20 and line.inner_text() == message:  # never reached the kernel
             canvas.click(position=position)
