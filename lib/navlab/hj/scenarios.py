@@ -7,8 +7,10 @@ policy (``hj.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sens
 ``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws
 (in Table VI, noise-free like the paper's simulation, the draw is where along its line the human starts).
 
-- Table VI (``face_to_face``, ``zig_zag``): non-reactive humans in the open room; the three rows differ
-  only in the human pruner (FI-BRT, FS-BRT, OBS), the walls are pruned by OBS in every row.
+- Table VI (``face_to_face``, ``zig_zag``): non-reactive humans in the open room; the paper's three rows
+  differ only in the human pruner (FI-BRT, FS-BRT, OBS), the walls are pruned by OBS in every row. Its
+  search is prediction-free (Sec. IV), so are these rows; ``human_rows`` adds ours, FI-/FS-BRT with the
+  humans predicted along their observed velocity, as labelled variant rows (Tables VI and IX).
 - Table VIII (``room_patrol``): no humans; the Long Hallway and Dense Room patrols with the four
   heuristic x static-pruner combinations (Dist/TTR x OBS/static BRT with its measured margin).
 - Table IX (``human_patrol``): 1 or 2 humans patrolling their points of interest under the paper's three
@@ -38,9 +40,22 @@ from navlab.reach.precompute import load_human_brt, load_ttr
 from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
 from navlab.sim.receding_horizon import Run, SimSettings, run_patrol
 
-HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX: row -> LatticePolicy mode
+HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX, the paper's rows -> LatticePolicy mode
 ROOM_COMBOS = (("Dist", "OBS"), ("Dist", "BRT"), ("TTR", "OBS"), ("TTR", "BRT"))  # Table VIII rows
 ROOM_NAMES = {"long_hallway": "Long Hallway", "dense_room": "Dense Room"}
+
+
+def human_rows(dynamic) -> dict[str, tuple[str, float]]:
+    """Tables VI and IX: row -> (``LatticePolicy`` human mode, prediction horizon in s). First the paper's three
+    rows at ``closed_loop.human_prediction_s`` (0, prediction-free, is the paper's method; OBS never predicts),
+    then ours where ``prediction_variant_s`` differs from it: FI-/FS-BRT with the humans predicted along their
+    observed velocity that far, named "FI-BRT (1.5 s prediction, ours)"."""
+    c = dynamic.closed_loop
+    rows = {m: (mode, 0.0 if mode == "obs" else c.human_prediction_s) for m, mode in HUMAN_ROWS.items()}
+    if c.prediction_variant_s > 0 and c.prediction_variant_s != c.human_prediction_s:
+        rows.update({f"{m} ({c.prediction_variant_s:g} s prediction, ours)": (mode, c.prediction_variant_s)
+                     for m, mode in HUMAN_ROWS.items() if mode != "obs"})
+    return rows
 
 
 def start_state(xy, heading_deg: float) -> np.ndarray:
@@ -70,6 +85,7 @@ class ClosedLoop:
                            fi.d_threshold_m)
         self._ttr = self._human_brt = None
         self._planners: dict[str, Planner] = {}
+        self.rows = human_rows(self.d)  # Tables VI and IX
 
     def settings(self, pose_noise_m: float) -> SimSettings:
         c, h = self.d.closed_loop, self.params.hj.grids.human
@@ -97,10 +113,28 @@ class ClosedLoop:
                 f"observed speed exactly (the first step absorbs the gap to a lattice level) and the car executes "
                 f"their commands unmodified, so it drives the trajectory the pruners checked from the observed pose; "
                 f"under pose noise both static pruners prune {c.pose_allowance_sigmas:g} noise stds further out. "
-                f"FI-/FS-BRT check each node against the humans where they walk by then at their observed velocity "
-                f"(over {c.velocity_window_s:g} s; held after {c.human_prediction_s:g} s), and without a plan the car "
-                f"evades (the one step with the highest human BRT value) where braking straight would enter the "
+                f"{self._prediction_rule()}, and without a plan the car evades (the one step with the highest human BRT value) where braking straight would enter the "
                 f"human BRT (contacts then count as not on a plan).")
+
+    def _prediction_rule(self) -> str:
+        c = self.d.closed_loop
+        ahead = [a for mode, a in self.rows.values() if a > 0]
+        paper = ("FI-/FS-BRT check each node against the humans where they were last observed (prediction-free, the "
+                 "paper's Sec. IV)" if c.human_prediction_s == 0 else
+                 f"FI-/FS-BRT check each node against the humans where they walk by then at their observed velocity "
+                 f"(held after {c.human_prediction_s:g} s; the paper's search is prediction-free)")
+        if not ahead or c.human_prediction_s > 0:
+            return paper
+        return (f"{paper}; the rows marked 'prediction, ours' check it against the humans where they walk by then at "
+                f"their observed velocity (over {c.velocity_window_s:g} s; held after {max(ahead):g} s)")
+
+    def _human_row(self, name: str, pose_noise_m: float = 0.0) -> tuple[str, float, float]:
+        """A Table VI / IX row's ``policy`` arguments after the static pruner: human mode, pose noise, prediction
+        horizon; an unknown row is one line listing them."""
+        if name not in self.rows:
+            raise ValueError(f"human row {name!r}: use one of {', '.join(self.rows)}")
+        mode, ahead = self.rows[name]
+        return mode, pose_noise_m, ahead
 
     def heuristic_for(self, name: str):
         if name == "Dist":
@@ -123,10 +157,11 @@ class ClosedLoop:
         raise ValueError(f"static pruner {name!r}: use 'OBS' or 'BRT'")
 
     def policy(self, room: Room, heuristic: str, static: str, human_mode: str = "none",
-               pose_noise_m: float = 0.0) -> LatticePolicy:
+               pose_noise_m: float = 0.0, prediction_s: float | None = None) -> LatticePolicy:
         """The receding-horizon planner; its static pruner prunes ``pose_allowance_sigmas`` pose-noise stds
         further out (the BRT's value is 1-Lipschitz in position, OBS's clearance too), because plans are made
-        from the observed pose and driven from the true one."""
+        from the observed pose and driven from the true one. ``prediction_s``: how far FI-/FS-BRT predict the
+        humans (None: ``closed_loop.human_prediction_s``)."""
         if human_mode in ("fi", "fs") and self._human_brt is None:
             self._human_brt = load_human_brt(self.params, self.artifacts_dir)
         p = self.params.hj.planner
@@ -140,7 +175,8 @@ class ClosedLoop:
                              rest_periods=self.d.closed_loop.rest_periods, rest_bound=self.d.closed_loop.rest_bound,
                              reuse=self.d.closed_loop.reuse_plan,
                              switch_gain_s=self.d.closed_loop.plan_switch_gain_s, robot_radius=self.robot.radius_m,
-                             human_prediction_s=self.d.closed_loop.human_prediction_s)
+                             human_prediction_s=self.d.closed_loop.human_prediction_s if prediction_s is None
+                             else prediction_s)
 
     def _rng(self, run: int) -> np.random.Generator:
         return np.random.default_rng(self.d.seed + run)
@@ -159,7 +195,7 @@ class ClosedLoop:
         t, speed, rng = self.d.table6, self.params.hj.grids.human.speed, self._rng(run)
         f, room = t.face_to_face, load_room(t.room)
         human = StraightWalker(self._jittered(f.human_start, f.human_goal, rng), tuple(f.human_goal), speed)
-        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", *self._human_row(row)),
                           room.obstacle_distance, start_state(f.robot_start[:2], f.robot_start[2]), [f.robot_goal],
                           [human], self._table6_settings(), rng, keep_plans=keep_plans)
 
@@ -169,7 +205,7 @@ class ClosedLoop:
         z, room = t.zig_zag, load_room(t.room)
         human = HumanStream(tuple(z.human_start), tuple(z.human_goal), speed, z.spawn_clear_m)
         human.position = np.asarray(self._jittered(z.human_start, z.human_goal, rng))  # the stream's phase
-        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row]),
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", *self._human_row(row)),
                           room.obstacle_distance, start_state(z.robot_start[:2], z.robot_start[2]),
                           list(z.robot_goals), [human], self._table6_settings(), rng)
 
@@ -197,7 +233,7 @@ class ClosedLoop:
             raise ValueError(f"{n_humans} humans: hj.dynamic.table9.human_pois lists {len(t.human_pois)}")
         room = load_room(t.room)
         humans = [PatrolHuman(tuple(map(tuple, pois)), speed) for pois in t.human_pois[:n_humans]]
-        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", HUMAN_ROWS[row], t.pose_noise_m),
+        return run_patrol(self.policy(room, self.d.closed_loop.heuristic, "OBS", *self._human_row(row, t.pose_noise_m)),
                           room.obstacle_distance, start_state(t.robot_goals[0], t.robot_start_heading_deg),
                           cyclic_goals(t.robot_goals, t.cycles), humans, self.settings(t.pose_noise_m),
                           self._rng(run), keep_plans=keep_plans)

@@ -156,6 +156,12 @@ class HumanPruner:
     name: str = ""
 
     def __post_init__(self):
+        # the compiled search takes the field's values read-only, whatever they came as: a stored BRT is a
+        # read-only memory map, NO_HUMAN's placeholder and a solved one are not, and numba compiles the whole
+        # search once per array type (the HJ playground's first human: a second 2-minute compile)
+        values = self.field.values.view()
+        values.flags.writeable = False
+        object.__setattr__(self, "field", self.field._replace(values=values))
         humans = np.asarray(self.humans, np.float64)
         if humans.ndim != 2 or humans.shape[1] != 4:
             raise ValueError(f"humans must be (H, 4) (x, y, vx, vy), got {humans.shape}")

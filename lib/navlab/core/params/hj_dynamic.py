@@ -35,6 +35,7 @@ class ClosedLoopParams:
     human_noise_m: Annotated[float, between(0.0, 1.0)]  # std of each observed human position (the ZED 2 detector)
     velocity_window_s: Annotated[float, between(0.01, 10.0)]  # a human's velocity: its observed displacement over this long
     human_prediction_s: Annotated[float, between(0.0, 60.0)]  # FI/FS: humans predicted at their velocity up to this (0: frozen)
+    prediction_variant_s: Annotated[float, between(0.0, 60.0)]  # Tables VI, IX: FI/FS rows predicting this far (ours; 0: none)
 
 
 @section
