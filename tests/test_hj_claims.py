@@ -4,6 +4,7 @@ is never "holds", a clear difference is, and our own checks are counted apart fr
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from pathlib import Path
@@ -97,8 +98,11 @@ def test_each_search_table_decides_exactly_its_registry_claims_plus_the_dense_ch
         decided = _decided(claims)
         untested = {c.key for c in claims if c.verdict == "not tested"}
         assert set(decided) == _keys(table_id), table_id
-        assert untested <= {"t2_misaligned"}  # Dist fails no task here: nothing to locate
-        assert [c.claim for c in claims if c.source == "ours"] == ["no plan fails the dense check"]
+        assert untested <= {"t2_misaligned", "t4_obs_fail_mode"}  # no task failed: nothing to locate or classify
+        assert not [c for c in claims if c.source == "ours"]  # the paper's pruners only: no check of ours
+        swept = {**results, "swept (ours)": [dataclasses.replace(r, pruner="swept OBS") for r in results[names[0]]]}
+        ours = [c.claim for c in hc.search_claims(table_id, swept, seed=0) if c.source == "ours"]
+        assert ours == ["no plan of a swept-check row fails the dense check"]
     with pytest.raises(ValueError, match="no claims for 'table1_heuristics_astar'"):
         hc.search_claims("table1_heuristics_astar", {}, seed=0)
 
@@ -127,7 +131,21 @@ def test_table4_checks_that_brt_expands_fewer_nodes_than_obs():
             "ANA* w/ BRT": tasks([True] * 12, [110 + i for i in range(12)])}
     by = {c.key: c for c in hc.search_claims("table4_pruning_anastar", more, seed=0)}
     assert by["t4_fewer_nodes"].verdict == "does not hold"  # ours: more, as in the committed report
-    assert by["t4_obs_count"].verdict == "does not hold" and "dense check" in by["t4_obs_count"].why
+    assert by["t4_obs_count"].verdict == "does not hold" and "between the sampled states" in by["t4_obs_count"].why
+    assert by["t4_obs_fail_mode"].verdict == "not tested"
+
+
+def test_table4_classifies_obs_failures_by_the_dense_check():
+    """The paper: OBS's 4 failures were plans whose densified trajectories hit obstacles."""
+    brt = tasks([True] * 12)
+    grazing = {"ANA* w/ OBS": tasks([True] * 8) + [task(False, found=True) for _ in range(4)], "ANA* w/ BRT": brt}
+    by = {c.key: c for c in hc.search_claims("table4_pruning_anastar", grazing, seed=0)}
+    assert by["t4_obs_fail_mode"].verdict == "holds", by["t4_obs_fail_mode"].ours
+    assert "4 plan(s) failing the dense check, 0 task(s) without a plan" in by["t4_obs_fail_mode"].ours
+    assert by["t4_obs_count"].verdict == "holds"  # 8 of 12, the paper's count
+    no_plan = {"ANA* w/ OBS": tasks([True] * 10) + [task(False), task(False, found=True)], "ANA* w/ BRT": brt}
+    by = {c.key: c for c in hc.search_claims("table4_pruning_anastar", no_plan, seed=0)}
+    assert by["t4_obs_fail_mode"].verdict == "does not hold"  # one failure had no plan at all
 
 
 COMBOS = hc.ROOM_METHODS

@@ -1,6 +1,7 @@
 """The lattice's collision check is conservative by construction (issue 26): a segment the swept OBS check
 accepts never comes within the robot radius of an obstacle on its dense replay, and a plan the search
-returns never fails the dense check, with either static pruner."""
+returns with it never fails the dense check. The paper's own OBS (the point check) does let plans graze,
+and the closed-loop policy never drives such a plan."""
 
 import math
 
@@ -9,7 +10,7 @@ import pytest
 
 from navlab.hj.guidance import dist_heuristic
 from navlab.hj.planning import plan_clearance
-from navlab.hj.pruners import field_error, obs_pruner
+from navlab.hj.pruners import field_error, obs_point_pruner, obs_pruner
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primitive_table
 from navlab.search.lattice_fields import chord_clearance
@@ -148,3 +149,33 @@ def test_plans_never_fail_the_dense_check(seed):
             found += result.found
             assert not result.found or plan_clearance(room, RADIUS, SPEC, result) > 0.0
     assert found > 10
+
+
+def test_the_papers_point_check_lets_plans_graze_and_the_closed_loop_never_drives_one():
+    """The paper's OBS baseline checks the clearance at the sampled states only (``obs_point_pruner``): in
+    random rooms some plans it passes cut into an obstacle between samples, the failure the paper's dense check
+    catches (Table IV). Our closed-loop rule: the policy never returns such a plan (it counts it rejected)."""
+    from navlab.hj.lattice_policy import LatticePolicy
+    from navlab.sim.receding_horizon import Observation
+
+    rng = np.random.default_rng(0)
+    grazing = []
+    for _ in range(60):
+        room = random_room(rng)
+        xy = rng.uniform((0.3, 0.3), (2.7, 1.7), size=(40, 2))
+        points = xy[room.signed_distance(xy[:, 0], xy[:, 1], RADIUS) > 0.1]
+        if len(points) < 2:
+            continue
+        start, goal = np.array([*points[0], 0.0, rng.uniform(-math.pi, math.pi)]), Goal(tuple(points[1]), 0.2, 0.25)
+        result = search(SPEC, room.bounds, start, goal, dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance),
+                        pruners=Pruners(static=obs_point_pruner(room, RADIUS)), budget=Budget(max_expansions=50000))
+        if result.found and plan_clearance(room, RADIUS, SPEC, result) <= 0.0:
+            grazing.append((room, start, goal))
+    assert grazing, "no plan of the point check grazed an obstacle: the paper's failure mode is not exercised"
+    for room, start, goal in grazing:
+        policy = LatticePolicy(SPEC, room, lambda g: dist_heuristic(g, SPEC.v_max, 0.2), obs_point_pruner(room, RADIUS),
+                               goal_tolerance=goal.tolerance, goal_max_speed=goal.max_speed, max_expansions=50000,
+                               robot_radius=RADIUS)
+        commands = policy(Observation(0.0, start, goal.xy, np.zeros((0, 2)), np.zeros((0, 2))))
+        assert policy.dense_rejections == 1
+        assert isinstance(commands, np.ndarray) and len(commands) == 0  # braked at rest: no plan driven

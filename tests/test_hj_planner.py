@@ -319,9 +319,11 @@ def test_summaries_count_each_way_to_fail_and_the_dense_check_counts_failing_pla
     assert dist["infeasible_depth_m"] == pytest.approx(0.2)
     assert (ttr["success"], ttr["no_plan"], ttr["infeasible"], ttr["infeasible_depth_m"]) == (3, 0, 0, None)
     assert "1 without a plan, 1 failing the dense check, median 200.0 mm deep" in failure_modes(rows)
-    dense = dense_check(results)  # ours: a plan failing the dense check is a bug
+    assert dense_check(results) == []  # the paper's OBS: a plan failing the dense check is a failure, not a bug
+    swept = {m: [dataclasses.replace(r, pruner="swept OBS") for r in rs] for m, rs in results.items()}
+    (dense,) = dense_check({**results, **{f"{m} (ours)": rs for m, rs in swept.items()}})  # ours: a bug there
     assert (dense.source, dense.verdict) == ("ours", "does not hold")
-    assert dense.ours.startswith("failing plans: A* w/ Dist 1, A* w/ TTR 0; feasible 4/5 plans found")
+    assert dense.ours.startswith("failing plans: A* w/ Dist (ours) 1, A* w/ TTR (ours) 0; feasible 4/5 plans found")
 
 
 def test_heuristic_excess_is_zero_for_dist_and_measured_for_ttr(grids, smoke_params):

@@ -34,7 +34,7 @@ executing (the braking time; re-checked whole, the open-loop rest of a 15 s plan
 ``samples_per_step`` points per step — and, if it passes,
 answers ``None``: the car keeps executing it (a plan proven infeasible, or one the re-check rejects, still
 makes the car brake). The re-check is the human pruner (the humans have moved) and, for the static map,
-collision: the swept OBS check (``lattice_fields.swept_unsafe``, as in the search: the path between the
+collision: the swept OBS check (``lattice_fields.swept_unsafe``, ours: the path between the
 re-check's samples is covered too; with ``"obs"`` the humans' discs included). Not the
 static BRT again: the map has not changed, the plan passed the BRT when it was made, and an optimal plan
 runs along the BRT's boundary, so the pose noise alone (2 cm) would fail it almost every time. A kept
@@ -82,6 +82,14 @@ best plan so far is taken. ANA*'s first solution from rest can be a long detour,
 rarely find any plan within one period, so it kept driving that detour: on the Dense Room's return trip a
 first plan of 24.5 s (bound 4.9) from (5.2, 1.2) drove up to the first wall's gap and back until the trip
 deadlocked, where one more period's search (6,000 expansions) had found 11.0 s (bound 1.7) (measured).
+
+The search prunes with the paper's pruners alone (OBS: the clearance at the sampled states; BRT: the
+static BRT there), which do not look between samples, so a plan may graze an obstacle. Our safety rule:
+the car never executes a plan that fails the paper's dense feasibility check (``hj.planning.plan_clearance``:
+the plan replayed under the dynamics, 8 points per sample, exact clearance); such a plan is treated as no
+plan (the plan in force is kept if it still re-checks safe, else the car brakes or evades), counted in
+``dense_rejections``. A method whose plans keep failing the check loses time or the trip, which is what
+the paper's tables measure.
 """
 
 from __future__ import annotations
@@ -92,6 +100,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from navlab.hj.planning import plan_clearance
 from navlab.hj.pruners import FIParams, clearance_field, human_pruner, obs_pruner
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
@@ -99,7 +108,6 @@ from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, pla
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import (
     NO_HUMAN,
-    NO_STATIC,
     Budget,
     Frontier,
     Goal,
@@ -159,8 +167,9 @@ class LatticePolicy:
     switch_gain_s: float = 0.0  # with ``reuse``: a new plan replaces a still-safe one only if it arrives this much sooner
     reuse_horizon_s: float = 2.0  # s of the kept plan re-checked: the braking time from v_max = 1 m/s at 0.5 m/s²
     expansions: list[int] = field(default_factory=list)
+    dense_rejections: int = 0  # found plans not executed: they failed the dense check
     _table: np.ndarray = field(init=False, repr=False)
-    _obs: StaticPruner = field(init=False, repr=False)  # the swept collision check (with a BRT static pruner)
+    _obs: StaticPruner = field(init=False, repr=False)  # the swept check of re-checks and fallbacks (ours)
     _heuristics: dict = field(init=False, repr=False, default_factory=dict)
     _clearance: GridField | None = field(init=False, repr=False, default=None)
     _points: tuple[np.ndarray, np.ndarray] | None = field(init=False, repr=False, default=None)
@@ -244,17 +253,20 @@ class LatticePolicy:
         if bound <= 0.0:  # no plan can arrive that much sooner
             self.expansions.append(0)
             return None
-        result, spent, ready = self._plan(state, goal, Pruners(static=static, collision=self._collision(static),
-                                                                human=human),
+        result, spent, ready = self._plan(state, goal, Pruners(static=static, human=human),
                                           moving=moving, waiting=waiting, upper_bound=bound)
         self.expansions.append(result.expansions - spent)  # this period's share
+        grazes = ready and plan_clearance(self.room, self.robot_radius, self.spec, result) <= 0.0
+        if grazes:  # our safety rule: never execute a plan that fails the paper's dense check
+            self.dense_rejections += 1
+            ready = False
         if ready:
             if keepable and remaining <= result.cost + self.switch_gain_s:
                 return None  # the plan in force arrives no later: keep it
             self._current = (goal, float(observation.time), result.controls)
             return result.controls
-        if keepable and (result.status == "expansion limit" or np.isfinite(bound)):
-            return None  # out of budget, or (bounded) no plan arrives sooner: keep the plan in force
+        if keepable and (grazes or result.status == "expansion limit" or np.isfinite(bound)):
+            return None  # out of budget, (bounded) no plan arrives sooner, or it grazes: keep the plan in force
         if human.kind != NO_HUMAN.kind:
             self._current = None
             return self._evade(state, humans, velocities)
@@ -304,10 +316,6 @@ class LatticePolicy:
         than ``rest_periods`` periods' budget has gone into improving it since the first solution."""
         return (self.anytime and found.frontier is not None and found.solution_bounds[-1] > self.rest_bound
                 and found.expansions < found.solution_expansions[0] + self.rest_periods * self.max_expansions)
-
-    def _collision(self, static: StaticPruner) -> StaticPruner:
-        """The search's swept collision check: an OBS static pruner is one; a BRT one gets ``_obs``."""
-        return NO_STATIC if static.name == "OBS" else self._obs
 
     def _evade(self, state: np.ndarray, humans: np.ndarray, velocities: np.ndarray) -> Evasion | np.ndarray:
         """No plan found: brake straight, unless that step would take the human-robot BRT value below the

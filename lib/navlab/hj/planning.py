@@ -6,9 +6,15 @@ pruner, A* or ANA*, then the paper's feasibility check.
 the budget that passes the densified check), expansions (to the first solution for ANA*, as the paper
 records them), cost, and time. The feasibility check replays the plan's controls through every sub-step
 of the integration the lattice was built with (``search.dubins_lattice.densify``: 8 points per search
-sample) and requires positive exact clearance at each. Every segment the search accepts passed the swept
-collision check (``search.lattice_fields.swept_unsafe``; with the BRT pruner as well, as ``collision``),
-which provably keeps that replay clear, so a found plan that fails it is a bug: ``run`` raises.
+sample) and requires positive exact clearance at each.
+
+The pruners are the paper's: "OBS" checks the clearance at the states the search samples (the
+conventional instantaneous check) and "BRT" the static BRT there (Eq. 12); neither looks between samples,
+so a plan may fail the dense check, and the paper counts such a plan as a failure (Sec. VII-B, Table IV:
+"densified trajectories intersected static obstacles"), as ``TaskResult.success`` does. Ours, as labelled
+variant rows: "swept OBS" (the conservative swept check, ``search.lattice_fields.swept_unsafe``) and "BRT
++ swept OBS" (the BRT with that check as ``collision``); the swept check provably keeps the dense replay
+clear, so a plan of theirs that fails it is a bug: ``run`` raises.
 """
 
 from __future__ import annotations
@@ -21,7 +27,7 @@ import numpy as np
 
 from navlab.core.params import Params
 from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, map_ttr_heuristic, ttr_heuristic
-from navlab.hj.pruners import clearance_field, obs_pruner, static_brt_pruner
+from navlab.hj.pruners import clearance_field, obs_point_pruner, obs_pruner, static_brt_pruner
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.brt_margin import measure_static_brt_margin
 from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
@@ -39,7 +45,8 @@ from navlab.search.lattice_search import (
 )
 
 HEURISTICS = ("Dist", "map Dist", "TTR", "map TTR")
-PRUNERS = ("none", "OBS", "BRT")
+PRUNERS = ("none", "OBS", "BRT", "swept OBS", "BRT + swept OBS")  # the paper's, then ours (module docstring)
+SWEPT = ("swept OBS", "BRT + swept OBS")
 
 
 def lattice_spec(params: Params) -> LatticeSpec:
@@ -115,7 +122,8 @@ class Planner:
                                                            log=log)
             margin = self.margin_report["margin"]
         self.margin = float(margin)
-        self._obs = obs_pruner(self.room, self.robot.radius_m)
+        self._obs = obs_pruner(self.room, self.robot.radius_m)  # swept
+        self._obs_point = obs_point_pruner(self.room, self.robot.radius_m)
         self.costmap = Costmap(costmap_field(self.room, self.robot.radius_m, self.p.cost_decay_per_m),
                                self.p.cost_weight) if costs else Costmap()
 
@@ -134,15 +142,17 @@ class Planner:
         if name == "none":
             return NO_STATIC
         if name == "OBS":
+            return self._obs_point
+        if name == "swept OBS":
             return self._obs
-        if name == "BRT":
+        if name in ("BRT", "BRT + swept OBS"):
             return static_brt_pruner(self._brt, self.margin)
         raise ValueError(f"pruner {name!r}: choose one of {', '.join(PRUNERS)}")
 
     def collision(self, pruner: str):
-        """The swept collision check a search with ``pruner`` adds: OBS's own for BRT, none otherwise
-        (OBS sweeps already; "none" checks nothing)."""
-        return self._obs if pruner == "BRT" else NO_STATIC
+        """The swept collision check a search with ``pruner`` adds: OBS's swept one for "BRT + swept OBS", none
+        otherwise ("swept OBS" sweeps already; the paper's pruners check the sampled states only)."""
+        return self._obs if pruner == "BRT + swept OBS" else NO_STATIC
 
     def run(self, start, goal_xy, heuristic: str, pruner: str, algorithm: str) -> tuple[TaskResult, SearchResult]:
         if algorithm not in ("A*", "ANA*"):
@@ -155,7 +165,7 @@ class Planner:
                      costmap=self.costmap, table=self.table,
                      budget=Budget(anytime=anytime, max_expansions=self.p.anastar_max_expansions if anytime else self.p.astar_max_expansions))
         clearance = plan_clearance(self.room, self.robot.radius_m, self.spec, res)
-        if res.found and clearance <= 0.0 and pruner != "none":
+        if res.found and clearance <= 0.0 and pruner in SWEPT:
             raise AssertionError(f"{algorithm} with {heuristic} + {pruner} from {tuple(np.round(start, 3))} returned a "
                                  f"plan {-1000 * clearance:.2f} mm inside an obstacle by the dense check, which the "
                                  f"swept collision check rules out: a bug in the check or the replay")

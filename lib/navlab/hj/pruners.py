@@ -8,7 +8,12 @@ expansion (the paper's Table VII: 140 states per call) and drops a successor whe
   obstacles, sampled on a fine raster) minus the robot radius and the raster's error bound
   (``field_error``) must be > 0 at a state, and along a segment the swept check of
   ``lattice_fields.swept_unsafe`` (the search's, and the simulator's re-check) bounds it between samples
-  (by the two-disc chord bound ``chord_clearance``, else the 1-Lipschitz one);
+  (by the two-disc chord bound ``chord_clearance``, else the 1-Lipschitz one): ours, so that no plan a
+  search returns can touch an obstacle;
+- ``obs_point_pruner``: the paper's OBS baseline, the conventional instantaneous check ("perform
+  instantaneous collision checking only", Sec. VII): the same clearance at the segment's samples only. A
+  plan it passes may graze an obstacle between samples; the paper's dense feasibility check
+  (``hj.planning.plan_clearance``) then counts it as a failure (Sec. VII-B, Fig. 7);
 - ``static_brt_pruner``: the static-map BRT value must be > ``margin``, a margin measured against a finer
   solve (``reach.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
 - ``human_pruner``: the human-robot BRT with the humans fixed at their observed positions (prediction
@@ -30,7 +35,7 @@ import numpy as np
 from navlab.hj.guidance import grid_field
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup, wrap_angle
-from navlab.search.lattice_fields import S_BRT, S_OBS, U_FI, U_FS, GridField
+from navlab.search.lattice_fields import S_BRT, S_OBS, S_OBS_POINT, U_FI, U_FS, GridField
 from navlab.search.lattice_search import HumanPruner, StaticPruner
 
 
@@ -82,6 +87,14 @@ def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> Sta
     field = clearance_field(room, resolution)
     error = field_error(field)
     return StaticPruner(S_OBS, field, np.array([robot_radius + error, -1.0, error]), "OBS")
+
+
+def obs_point_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
+    """The paper's OBS pruner: the clearance at the segment's sample points must exceed the robot radius, as a
+    costmap look-up checks it (no allowance for the raster's interpolation error, which ``obs_pruner`` adds
+    so that its bound holds between samples)."""
+    swept = obs_pruner(room, robot_radius, resolution)
+    return StaticPruner(S_OBS_POINT, swept.field, np.array([robot_radius, *swept.par[1:]]), "OBS")
 
 
 def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:

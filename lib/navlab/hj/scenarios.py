@@ -34,7 +34,7 @@ from navlab.core.params import Params
 from navlab.hj.guidance import dist_heuristic, ttr_heuristic
 from navlab.hj.lattice_policy import LatticePolicy
 from navlab.hj.planning import Planner, lattice_spec
-from navlab.hj.pruners import FIParams, obs_pruner
+from navlab.hj.pruners import FIParams, obs_point_pruner
 from navlab.maps.rooms import Room, load_room
 from navlab.reach.precompute import load_human_brt, load_ttr
 from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
@@ -102,7 +102,10 @@ class ClosedLoop:
                 f"(with no humans in view ANA* then searches only for plans that arrive that much sooner: the plan in force "
                 f"is its incumbent)"
                 if c.reuse_plan else "a re-plan out of budget brakes the car")
-        return (f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
+        return (f"The search prunes with the paper's pruners alone (OBS: the clearance at the sampled states, the "
+                f"humans' discs included in the OBS rows; BRT: the static BRT there); ours: the car never executes a "
+                f"found plan that fails the paper's dense feasibility check, which counts as no plan. "
+                f"Between re-plans (hj.lattice_policy): {keep}; a car at rest without a plan lets its search run on "
                 f"while it waits (resumed with no humans in view; re-run for up to {c.rest_periods} period(s) while "
                 f"humans move), and with no humans in view holds back an ANA* plan whose proven bound exceeds "
                 f"{c.rest_bound:g} while its search improves it, for up to {c.rest_periods} period(s) after the first "
@@ -147,8 +150,8 @@ class ClosedLoop:
         raise ValueError(f"heuristic {name!r}: the closed-loop runs use 'Dist' or 'TTR'")
 
     def static_pruner(self, room: Room, name: str):
-        if name == "OBS":
-            return obs_pruner(room, self.robot.radius_m)
+        if name == "OBS":  # the paper's instantaneous check (hj.pruners.obs_point_pruner)
+            return obs_point_pruner(room, self.robot.radius_m)
         if name == "BRT":  # the room's static BRT with the margin measured against a finer solve (cached)
             if room.name not in self._planners:
                 self._planners[room.name] = Planner(self.params, self.artifacts_dir, room.name, costs=False,

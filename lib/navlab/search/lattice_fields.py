@@ -20,6 +20,9 @@ Pruner kinds, static (``S_*``) and human (``U_*``), each returns True where a se
 - ``S_OBS``: the conservative collision check (``swept_unsafe``): the path from the parent through the
   segment's samples may come within the robot radius of an obstacle (2D signed-distance field; par:
   [radius + field error, value off the grid, field error]);
+- ``S_OBS_POINT``: the conventional instantaneous check the paper's OBS baseline performs: clearance <=
+  radius at any of the segment's samples (same field and par as ``S_OBS``); the path between samples is
+  not checked, so a plan may graze an obstacle, which the paper's dense feasibility check then catches;
 - ``S_BRT``: static-map BRT value <= margin at any sample (paper Eq. 12); off the room: pruned;
 - ``U_FS``: human-robot BRT value < m at any sample, for any human (feasible-set pruning);
 - ``U_FI``: FS, or the forward-invariance condition of Eq. 14 with the finite difference of Eq. 15,
@@ -37,7 +40,7 @@ import numba
 import numpy as np
 
 H_ZERO, H_DIST, H_RASTER, H_GOAL_GRID, H_ROOM_GRID = 0, 1, 2, 3, 4
-S_NONE, S_OBS, S_BRT = 0, 1, 2
+S_NONE, S_OBS, S_BRT, S_OBS_POINT = 0, 1, 2, 3
 U_NONE, U_FS, U_FI = 0, 1, 2
 
 
@@ -227,13 +230,14 @@ def heuristic(kind, fv, m, par, x, y, v, th):
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
 def static_value(kind, fv, m, par, x, y, v, th):
-    """The static pruner's safety value at one state: clearance (S_OBS) or BRT value (S_BRT), minus margin.
+    """The static pruner's safety value at one state: clearance (S_OBS, S_OBS_POINT) or BRT value (S_BRT),
+    minus margin.
 
-    par: [robot_radius (S_OBS) or margin (S_BRT), value off the grid]. Positive is safe.
+    par: [robot_radius (S_OBS, S_OBS_POINT) or margin (S_BRT), value off the grid]. Positive is safe.
     """
     if _outside_xy(m, x, y):
         out = par[1]
-    elif kind == S_OBS:
+    elif kind == S_OBS or kind == S_OBS_POINT:
         out = interp2(fv, m, x, y)
     else:
         out = interp4(fv, m, x, y, v, th)

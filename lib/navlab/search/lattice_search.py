@@ -34,6 +34,7 @@ from navlab.search.lattice_fields import (
     H_ZERO,
     S_NONE,
     S_OBS,
+    S_OBS_POINT,
     U_NONE,
     GridField,
     cell_min,
@@ -87,7 +88,7 @@ class StaticPruner:
     def _check_obs(self, par: np.ndarray) -> None:
         """The compiled swept check reads an OBS pruner's par[2] (the field's error bound) and needs
         par[0] >= it: below, the threshold is a negative radius and segments through obstacles pass."""
-        if self.kind != S_OBS:
+        if self.kind not in (S_OBS, S_OBS_POINT):
             return
         if len(par) != 3:
             raise ValueError(f"OBS pruner par {list(par)}: give [radius + field error, value off the grid, "
@@ -101,10 +102,11 @@ class StaticPruner:
         return static_prune_batch(self.kind, self.field, self.lower, self.par, _segments(samples))
 
     def swept(self, parents: np.ndarray, samples: np.ndarray, durations: np.ndarray) -> np.ndarray:
-        """The conservative collision check of an OBS pruner (``lattice_fields.swept_unsafe``): parents
-        (N, 4), their segments' samples (N, S, 4), equally spaced over ``durations`` (N,) s -> (N,) True
-        where the path from a parent through its samples may touch an obstacle."""
-        if self.kind != S_OBS:
+        """The conservative collision check of an OBS pruner (``lattice_fields.swept_unsafe``; a point-check
+        one's field and par serve it as well): parents (N, 4), their segments' samples (N, S, 4), equally
+        spaced over ``durations`` (N,) s -> (N,) True where the path from a parent through its samples may
+        touch an obstacle."""
+        if self.kind not in (S_OBS, S_OBS_POINT):
             raise ValueError(f"the {self.name or 'static'} pruner has no swept collision check: use an OBS "
                              f"pruner (hj.pruners.obs_pruner)")
         parents, samples = _states(parents, "parents"), _segments(samples)

@@ -324,6 +324,9 @@ class HJPlayground:
         r = out.result
         humans = f", {len(s.humans)} human(s) by {s.human_mode}" if s.humans else ""
         cost = f", {r.cost:.1f} s to the goal" if r.found else ""
+        if r.found and out.clearance <= 0:
+            cost += (f", but it fails the dense check ({-1000 * out.clearance:.0f} mm into an obstacle between the "
+                     f"sampled states): the paper counts it a failure, the closed loop does not drive it")
         return (f"{s.algorithm} with {s.heuristic} + {s.static}{humans}: {r.status}{cost}, "
                 f"{r.expansions:,} expansions in {1000 * r.seconds:.0f} ms")
 
@@ -438,8 +441,7 @@ class HJPlayground:
             xy, velocities = self._human_arrays(setup.humans)
             human = human_pruner(self.human_brt, xy, HUMAN_MODES[setup.human_mode], self.loop.fi, velocities,
                                  self.params.hj.dynamic.closed_loop.human_prediction_s)
-        collision = NO_STATIC if static.name == "OBS" else self.loop.static_pruner(room, "OBS")
-        return static, collision, human
+        return static, NO_STATIC, human  # the paper's pruners alone, as the closed loop's search
 
     def _human_arrays(self, humans) -> tuple[np.ndarray, np.ndarray]:
         xy = np.array([(h.x, h.y) for h in humans], float).reshape(-1, 2)
@@ -509,14 +511,14 @@ class HJPlayground:
         """name -> check(parents (N, 4), samples (N, S, 4), durations (N,)) -> (N,) removed, as the search asks."""
         room = self.rooms(setup.room)
         obs = self.loop.static_pruner(room, "OBS")
-        checks = {"OBS": lambda p, s, d: obs.swept(p, s, d)}
+        checks = {"OBS": lambda p, s, d: obs(s)}  # the paper's instantaneous check at the sampled states
         if setup.room in self.brt_rooms:
             brt = self.loop.static_pruner(room, "BRT")
             checks["BRT"] = lambda p, s, d: brt(s)
         if setup.humans:
             static, _, human = self._pruners(setup)
             if setup.human_mode == "OBS":
-                checks["humans"] = lambda p, s, d: static.swept(p, s, d)
+                checks["humans"] = lambda p, s, d: static(s)
             else:
                 checks["humans"] = lambda p, s, d: human(p, s, np.zeros(len(p)), d)
         return checks
