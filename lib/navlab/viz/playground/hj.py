@@ -46,7 +46,6 @@ from navlab.reach.precompute import grid_path, load_human_brt, load_static_brt, 
 from navlab.search.dubins_lattice import place, primitive_table
 from navlab.search.lattice_search import (
     NO_HUMAN,
-    NO_STATIC,
     Budget,
     Goal,
     Pruners,
@@ -429,9 +428,10 @@ class HJPlayground:
             raise UserError(f"heading {heading_deg} is not a number of degrees")
         return (heading + 180.0) % 360.0 - 180.0
 
-    def _pruners(self, setup: Setup) -> tuple[StaticPruner, StaticPruner, object]:
-        """(static, collision, human) pruners as the closed loop's policy builds them (humans frozen at their
-        placed positions, predicted along their headings for ``human_prediction_s``)."""
+    def _pruners(self, setup: Setup) -> Pruners:
+        """The search's pruners as the closed loop's policy builds them: the paper's static and human pruners
+        alone, no swept collision check (humans frozen at their placed positions, predicted along their headings
+        for ``human_prediction_s``)."""
         room = self.rooms(setup.room)
         static = self.loop.static_pruner(room, setup.static)
         human = NO_HUMAN
@@ -441,7 +441,7 @@ class HJPlayground:
             xy, velocities = self._human_arrays(setup.humans)
             human = human_pruner(self.human_brt, xy, HUMAN_MODES[setup.human_mode], self.loop.fi, velocities,
                                  self.params.hj.dynamic.closed_loop.human_prediction_s)
-        return static, NO_STATIC, human  # the paper's pruners alone, as the closed loop's search
+        return Pruners(static=static, human=human)
 
     def _human_arrays(self, humans) -> tuple[np.ndarray, np.ndarray]:
         xy = np.array([(h.x, h.y) for h in humans], float).reshape(-1, 2)
@@ -451,13 +451,13 @@ class HJPlayground:
     def _plan(self, setup: Setup) -> PlanOutcome:
         p = self.params.hj.planner
         anytime = setup.algorithm == "ANA*"
-        static, collision, human = self._pruners(setup)
+        pruners = self._pruners(setup)
         tolerance = p.goal_tolerance_anastar_m if anytime else p.goal_tolerance_astar_m
         room = self.rooms(setup.room)
         start = np.array([setup.start[0], setup.start[1], 0.0, math.radians(setup.start[2])])
         result = search(self.loop.spec, room.bounds, start, Goal(setup.goal, tolerance, p.goal_max_speed),
                         self.loop.heuristic_for(setup.heuristic)(setup.goal),
-                        pruners=Pruners(static=static, collision=collision, human=human), table=self.table,
+                        pruners=pruners, table=self.table,
                         budget=Budget(anytime=anytime, max_expansions=p.anastar_max_expansions if anytime else p.astar_max_expansions))
         return PlanOutcome(result, plan_clearance(room, self.robot.radius_m, self.loop.spec, result))
 
@@ -516,7 +516,8 @@ class HJPlayground:
             brt = self.loop.static_pruner(room, "BRT")
             checks["BRT"] = lambda p, s, d: brt(s)
         if setup.humans:
-            static, _, human = self._pruners(setup)
+            pruners = self._pruners(setup)
+            static, human = pruners.static, pruners.human
             if setup.human_mode == "OBS":
                 checks["humans"] = lambda p, s, d: static(s)
             else:
