@@ -7,8 +7,8 @@ through its click test; a notebook with tables and static figures only runs its 
 under papermill (tests/test_notebooks.py, every notebook), so a second run here checked nothing new and
 cost about 25 s each on the 2-core CI machine. The smoke profile and the smoke dataset/artefacts
 (conftest fixtures) reach the interactive kernel through the environment variables that
-``resolve_parameters`` reads ($NAVLAB_PROFILE, ...). The test fails on any error output and on a figure that did not render, and leaves one screenshot
-per notebook in .screenshots/browser/ (gitignored). A tiny notebook that raises checks that an error
+``resolve_parameters`` reads ($NAVLAB_PROFILE, ...). The test fails on any error output and on a figure
+that did not render, and leaves one screenshot per notebook in .screenshots/browser/ (gitignored). A tiny notebook that raises checks that an error
 is caught. Chromium is Debian's (`apt-get install -y chromium`; .ci/run installs it), launched by
 Playwright; without it the tests skip and say so.
 """
