@@ -1,16 +1,16 @@
 """Notebooks run top to bottom in JupyterLab, started as `make lab` starts it, driven in Chromium.
 
-What a person does: open the notebook in JupyterLab, Run > Run All Cells, wait for the kernel to go
-idle. Which notebooks: those whose outputs only a browser can check (ipympl canvases, meshcat and other
-HTML scenes, widgets, Markdown the kernel renders), the quickstart (the front door), and each playground
+What a person does: open the notebook in JupyterLab, Run > Run All Cells, wait for the kernel to go idle.
+Which notebooks: those whose outputs only a browser can check (ipympl canvases, meshcat and other HTML
+scenes, widgets, Markdown the kernel renders), the quickstart (the front door), and each playground
 through its click test; a notebook with tables and static figures only runs its cells in the same kernel
 under papermill (tests/test_notebooks.py, every notebook), so a second run here checked nothing new and
 cost about 25 s each on the 2-core CI machine. The smoke profile and the smoke dataset/artefacts
 (conftest fixtures) reach the interactive kernel through the environment variables that
 ``resolve_parameters`` reads ($NAVLAB_PROFILE, ...). The test fails on any error output and on a figure
-that did not render, and leaves one screenshot per notebook in .screenshots/browser/ (gitignored). A tiny notebook that raises checks that an error
-is caught. Chromium is Debian's (`apt-get install -y chromium`; .ci/run installs it), launched by
-Playwright; without it the tests skip and say so.
+that did not render, and leaves one screenshot per notebook in .screenshots/browser/ (gitignored). A tiny
+notebook that raises checks that an error is caught. Chromium is Debian's (`apt-get install -y chromium`;
+.ci/run installs it), launched by Playwright; without it the tests skip and say so.
 """
 
 from __future__ import annotations
