@@ -158,7 +158,7 @@ def test_a_new_plan_replaces_a_safe_one_only_if_it_arrives_sooner(loop):
     assert first is not None and len(first) > 0
     from navlab.search.dubins_lattice import integrate
 
-    moved = integrate(np.array([1.0, 2.7, 0.0, 0.0]), *first[0], 0.12, 12, 1.0)[-1]
+    moved = integrate(np.array([1.0, 2.7, 0.0, 0.0]), *first[0], 0.12, 12, loop.spec.v_range)[-1]
     seen = Observation(0.12, moved, goal, np.zeros((0, 2)), np.zeros((0, 2)))
     assert policy(seen) is None
     slow = np.vstack([first, np.zeros((10, 2))])  # the same plan then standing still for 5 s
@@ -202,7 +202,7 @@ def test_without_a_plan_the_car_evades_only_where_braking_would_enter_the_human_
     assert isinstance(out, Evasion) and len(out.commands) == 1
 
     def value(a, omega):
-        seg = integrate(state, a, omega, 0.5, 4, 1.0)
+        seg = integrate(state, a, omega, 0.5, 4, loop.spec.v_range)
         at = human + np.arange(1, 5)[:, None] * 0.125 * walking
         return float(policy.human_brt(seg, at).min())
 

@@ -56,9 +56,9 @@ def _open_policy(max_expansions=200_000):
 
 def _stops_clear_by_replay(spec, room, state, control) -> bool:
     """The step (a, ω) held for dt from ``state``, then braking straight to rest, densely replayed."""
-    step = integrate(state, control[0], control[1], spec.dt, 200, spec.v_max)
+    step = integrate(state, control[0], control[1], spec.dt, 200, spec.v_range)
     end = step[-1]
-    stop = integrate(end, min(spec.accelerations), 0.0, end[2] / -min(spec.accelerations), 200, spec.v_max)
+    stop = integrate(end, min(spec.accelerations), 0.0, end[2] / -min(spec.accelerations), 200, spec.v_range)
     path = np.concatenate([step, stop])
     return bool((room.signed_distance(path[:, 0], path[:, 1], ROBOT_R) > 0.0).all())
 
