@@ -107,6 +107,29 @@ def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brake
     assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
 
 
+def test_a_reversing_car_backs_up_and_brakes_to_rest_from_either_side():
+    """Two seconds of reversing commands, then none: the reversing car (v_min = -0.5, paper Sec. VII-A) backs
+    up at down to -0.5 m/s and, once the plan runs out, brakes (a > 0) to rest, not on into forward motion; the
+    forward-only car (v_min = 0) stays where it is under the same commands."""
+
+    class Back(_OnePlan):
+        def __call__(self, observation):
+            self.calls += 1
+            return np.array([[-0.5, 0.0]] * 4) if self.calls == 1 else None
+
+    room, start = load_room("open"), start_state((4.0, 2.7), 0.0)
+    runs = {v_min: run_patrol(Back(None), room.obstacle_distance, start, [(8.6, 2.7)], [],
+                              SimSettings(trip_timeout_s=3.5, deadlock_s=10.0, v_min=v_min), np.random.default_rng(0))
+            for v_min in (-0.5, 0.0)}
+    back = np.array(runs[-0.5].trajectory)  # rows t, x, y, v, θ
+    assert back[:, 3].min() == pytest.approx(-0.5) and back[-1, 3] == 0.0 and (back[:, 3] <= 0.0).all()
+    assert back[-1, 1] == pytest.approx(3.0, abs=0.01)  # 0.75 m backing up in 2 s (the plan), 0.25 m braking
+    still = np.array(runs[0.0].trajectory)
+    assert (still[:, 3] == 0.0).all() and (still[:, 1] == 4.0).all()
+    with pytest.raises(ValueError, match="v_min must lie in"):
+        SimSettings(v_min=-2.0)
+
+
 def test_the_car_drives_the_trajectory_its_plan_was_checked_on():
     """Commands switch at 0.5 s steps while the control ticks every 0.04 s: the tick that straddles a step
     boundary is split there, so the driven states at the step ends are the plan's own (holding a command
