@@ -98,7 +98,8 @@ class GridsParams:
 
 @section
 class LatticeParams:
-    """The Dubins lattice (search.dubins_lattice): every a·dt must be a whole number of speed levels."""
+    """The Dubins lattice (search.dubins_lattice): speed_levels from hj.grids.robot.v_min to v_max, 0 among
+    them, and every a·dt a whole number of levels."""
 
     dt_s: Annotated[float, between(0.05, 2.0)]
     accelerations: Annotated[tuple[float, ...], between(-10.0, 10.0)]
