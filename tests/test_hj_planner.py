@@ -508,3 +508,23 @@ def test_a_reversing_car_backs_out_of_a_dead_end():
     assert back.cost <= ahead.cost - 1.5, (back.cost, ahead.cost)
     dense = densify(reversing, start, back.controls)  # the plan as driven clears the walls
     assert (corridor.signed_distance(dense[:, 0], dense[:, 1], radius) > 0).all()
+
+
+def test_the_forward_only_car_is_a_params_variant(smoke_params):
+    """hj.grids.robot.v_min = 0 (with hj.planner.lattice.speed_levels = 9: 0.125 m/s apart) is the forward-only
+    car, a labelled variant: the lattice's levels and every grid's speed axis start at 0. A speed_levels that
+    does not fit the new range is refused with the lattice's message."""
+    from navlab.reach.precompute import specs
+
+    h = smoke_params.hj
+    robot = dataclasses.replace(h.grids.robot, v_min=0.0)
+    lattice = dataclasses.replace(h.planner.lattice, speed_levels=9)
+    forward = dataclasses.replace(smoke_params, hj=dataclasses.replace(
+        h, grids=dataclasses.replace(h.grids, robot=robot), planner=dataclasses.replace(h.planner, lattice=lattice)))
+    spec = lattice_spec(forward)
+    assert spec.v_min == 0.0 and spec.zero_level == 0 and np.allclose(spec.speeds, np.arange(9) * 0.125)
+    assert {s.grid.lo[2] for s in specs(forward)} == {0.0}
+    assert {s.grid.lo[2] for s in specs(smoke_params)} == {-0.5}
+    unfit = dataclasses.replace(forward, hj=dataclasses.replace(forward.hj, planner=h.planner))  # 13 levels over [0, 1]
+    with pytest.raises(ValueError, match="is not a whole number of speed levels"):
+        lattice_spec(unfit)
