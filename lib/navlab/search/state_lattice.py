@@ -33,7 +33,7 @@ admissible heuristic returns Dijkstra's cost on it (up to floating-point roundin
   inconsistent heuristic, such as an interpolated TTR grid, still returns the optimum) over lattice
   states with h given as a function of (N, 4) continuous states (x, y, v, θ) in seconds, evaluated once
   for every lattice state (and set to 0 on goal states); h = 0 is Dijkstra. The goal: a state within ``tolerance`` of the goal xy at a
-  speed <= ``max_speed``, tested when popped. ``Lattice.cost_to_go`` runs Dijkstra backwards from the
+  |speed| <= ``max_speed`` (reversing too), tested when popped. ``Lattice.cost_to_go`` runs Dijkstra backwards from the
   goal set over the whole lattice: the exact cost-to-go, against which a heuristic's admissibility is
   measured (``excess``).
 """
