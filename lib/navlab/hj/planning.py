@@ -58,7 +58,7 @@ def lattice_spec(params: Params) -> LatticeSpec:
     if max(abs(w) for w in lat.turn_rates) > robot.omega_max:
         raise ValueError(f"hj.planner.lattice.turn_rates exceed hj.grids.robot.omega_max = {robot.omega_max}")
     return LatticeSpec(lat.dt_s, lat.accelerations, lat.turn_rates, robot.v_max, lat.speed_levels,
-                       lat.samples_per_step, lat.cell_m, lat.heading_bins)
+                       lat.samples_per_step, lat.cell_m, lat.heading_bins, v_min=robot.v_min)
 
 
 def costmap_field(room: Room, robot_radius: float, decay: float, resolution: float = 0.02) -> GridField:
