@@ -15,6 +15,7 @@ from navlab.hj.closed_loop import (
     summarise_runs,
     summarise_trips,
 )
+from navlab.hj.pruners import obs_pruner
 from navlab.hj.scenarios import ClosedLoop, cyclic_goals, run_cells, start_state
 from navlab.maps.rooms import load_room
 from navlab.reach.precompute import grid_path, human_brt_spec
@@ -261,7 +262,9 @@ def test_a_waiting_car_lets_a_loose_plan_improve_before_it_drives_it(loop):
     at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
     taken = {}
     for bound in (math.inf, 2.0):
-        policy = loop.policy(room, "Dist", "OBS")
+        # the swept OBS (ours): the paper's point check passes plans that graze this room's walls, which the policy
+        # then rejects, so its periods would not add up to one search (test_hj_collision covers that rule)
+        policy = dataclasses.replace(loop.policy(room, "Dist", "OBS"), static=obs_pruner(room, loop.robot.radius_m))
         policy.max_expansions, policy.rest_periods, policy.rest_bound = 6000, 12, bound
         for k in range(40):
             plan = policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2))))
@@ -336,12 +339,12 @@ def test_detour_start_measures_the_distance_to_the_human():
 
 def test_a_start_inside_the_obs_allowance_falls_back_to_the_safety_controller(loop):
     """A noisy pose inside the OBS pruner's allowance (clear of the wall, but within radius + 2 pose stds of
-    it) cannot be planned from; the car then takes the no-plan fallback, not blind braking: 3 cm from the
+    it) cannot be planned from; the car then takes the no-plan fallback, not blind braking: 3.5 cm from the
     Dense Room's second wall, heading 10 degrees into it at 0.7 m/s, braking straight would not stop clear, so
     it swerves (the one braking step after which braking straight does)."""
     room = load_room("dense_room")
     policy = loop.policy(room, "Dist", "OBS", pose_noise_m=0.02)
-    state = np.array([4.47, 3.0, 0.7, -1.38])
+    state = np.array([4.48, 3.0, 0.7, -1.38])  # 3.5 cm clear: inside radius + 4 cm (the allowance)
     assert policy.static.values(state[None])[0] <= 0.0 < policy._obs.values(state[None])[0]
     assert not policy._brakes_clear(state[None])
     out = policy(Observation(0.0, state, room.goals["A"], np.zeros((0, 2)), np.zeros((0, 2))))
