@@ -242,7 +242,9 @@ def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
     plan found is taken: ``rest_bound`` inf.)"""
     room = load_room("dense_room")
     at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
-    policy = loop.policy(room, "Dist", "OBS")
+    # the swept OBS (ours): the paper's point check passes plans that graze this room's walls, which the policy
+    # rejects, so its periods would not add up to one search (test_hj_collision covers that rule)
+    policy = dataclasses.replace(loop.policy(room, "Dist", "OBS"), static=obs_pruner(room, loop.robot.radius_m))
     policy.max_expansions, policy.rest_periods, policy.rest_bound = 20000, 1, math.inf
     plans = [policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
     found = [p is not None and len(p) > 0 for p in plans]
@@ -291,7 +293,8 @@ def test_with_humans_in_view_a_search_from_rest_is_rerun_for_rest_periods(loop):
     at_b, goal, far = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"], np.array([[9.2, 0.3]])
 
     def plans(rest_periods):
-        policy = loop.policy(room, "Dist", "OBS", "obs")
+        policy = loop.policy(room, "Dist", "OBS", "obs")  # on the swept OBS (ours), as above
+        policy = dataclasses.replace(policy, static=obs_pruner(room, loop.robot.radius_m))
         policy.max_expansions, policy.rest_periods = 20000, rest_periods
         return [policy(Observation(k / 12, at_b, goal, far, np.zeros((1, 2)))) for k in range(4)]
 
