@@ -209,8 +209,8 @@ def test_map_ttr_goal_outside_the_room_is_a_params_error(smoke_params):
     ("cfl: 0.75", "cfl: {smoek: 0.5}", r"hj.grids.solver.cfl = .*unknown: smoek"),
     ("accel_min: -0.5\n      accel_max: 0.5", "accel_min: 0\n      accel_max: 0",
      r"hj.grids.robot.accel_min = 0.0: out of range, allowed between -10.0 and -0.01"),
-    ("shape: {smoke: [21, 21, 5], default: [161, 161, 11]", "shape: {smoke: [21, 21, 5, 5], default: [161, 161, 11]",
-     r"hj.grids.human_brt.shape = \[21, 21, 5, 5\]: expected a list of 3 items"),
+    ("shape: {smoke: [21, 21, 7], default: [161, 161, 16]", "shape: {smoke: [21, 21, 7, 5], default: [161, 161, 16]",
+     r"hj.grids.human_brt.shape = \[21, 21, 7, 5\]: expected a list of 3 items"),
 ])
 def test_params_yaml_mistakes_name_the_line_or_the_profile(tmp_path, old, new, message):
     text = Path("params.yaml").read_text()

@@ -16,7 +16,10 @@ from navlab.search.dubins_lattice import LatticeSpec, first_step, place, primiti
 from navlab.search.lattice_fields import chord_clearance
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
-SPEC = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 9, 4, 0.2, 24)
+SPEC = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 9, 4, 0.2, 24)  # forward only
+# the reversing car (params.yaml's): its segments may pass through rest and back (a cusp)
+REVERSING = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 13, 4, 0.2, 24,
+                        v_min=-0.5)
 RADIUS = 0.285
 
 
@@ -45,14 +48,14 @@ def test_field_error_bounds_the_interpolated_distance():
         assert (interpolated - room.obstacle_distance(xy[:, 0], xy[:, 1]) <= field_error(obs.field)).all()
 
 
-def drive(parent: np.ndarray, controls: np.ndarray, n: int) -> np.ndarray:
+def drive(spec: LatticeSpec, parent: np.ndarray, controls: np.ndarray, n: int) -> np.ndarray:
     """(P, n + 1, 2) positions of holding each (a, ω) from ``parent`` for dt in ``n`` midpoint sub-steps
     (``dubins_lattice.integrate``'s rule, vectorised over the primitives)."""
-    h = SPEC.dt / n
+    h = spec.dt / n
     x, y, v, th = (np.full(len(controls), c) for c in parent)
     out = [np.column_stack([x, y])]
     for _ in range(n):
-        v1 = np.clip(v + controls[:, 0] * h, 0.0, SPEC.v_max)
+        v1 = np.clip(v + controls[:, 0] * h, spec.v_min, spec.v_max)
         tm = th + 0.5 * controls[:, 1] * h
         x, y = x + h * 0.5 * (v + v1) * np.cos(tm), y + h * 0.5 * (v + v1) * np.sin(tm)
         v, th = v1, th + controls[:, 1] * h
@@ -94,15 +97,17 @@ def test_an_obs_threshold_below_the_field_error_is_refused():
     assert obs.with_threshold(field_error(obs.field)).par[0] == field_error(obs.field)
 
 
-def test_no_accepted_primitive_touches_an_obstacle():
+@pytest.mark.parametrize("spec", [SPEC, REVERSING], ids=["forward", "reversing"])
+def test_no_accepted_primitive_touches_an_obstacle(spec):
     """1,000 random rooms, the 25 primitives from 2 parents just clear of the obstacles in each (at a
     lattice speed, or an off-level one with ``first_step``'s primitives): every segment the swept check
     accepts keeps the radius on its dense replay (the sub-steps the table is integrated on) and on a 4
     times finer one; and the check is tight: it accepts 99% of the segments whose replay is 2 cm clear (the
-    1-Lipschitz bound alone accepted 95%: it asks the samples for up to half the step's length of clearance)."""
+    1-Lipschitz bound alone accepted 95%: it asks the samples for up to half the step's length of clearance).
+    Reversing, a segment may stop and drive back (a cusp), where only the Lipschitz bound decides."""
     rng = np.random.default_rng(26)
-    table = primitive_table(SPEC)
-    n = SPEC.samples_per_step * SPEC.micro_steps
+    table = primitive_table(spec)
+    n = spec.samples_per_step * spec.micro_steps
     accepted = clear = 0  # of the segments whose finer replay is 2 cm clear
     worst = math.inf
     for _ in range(1000):
@@ -113,13 +118,13 @@ def test_no_accepted_primitive_touches_an_obstacle():
                 xy = rng.uniform((0.0, 0.0), (3.0, 2.0))
                 if 0.0 < room.signed_distance(*xy, RADIUS) - field_error(obs.field) < 0.25:
                     break
-            level = rng.integers(SPEC.speed_levels)
-            speed = level * SPEC.dv if rng.random() < 0.7 else rng.uniform(0.0, SPEC.v_max)
-            rows, controls = (table[level], SPEC.controls) if speed == level * SPEC.dv else first_step(SPEC, speed)
+            level = rng.integers(spec.speed_levels)
+            speed = spec.speeds[level] if rng.random() < 0.7 else rng.uniform(spec.v_min, spec.v_max)
+            rows, controls = (table[level], spec.controls) if speed == spec.speeds[level] else first_step(spec, speed)
             parent = np.array([*xy, speed, rng.uniform(-math.pi, math.pi)])
             samples = place(rows, parent)
-            keep = ~obs.swept(np.broadcast_to(parent, (len(samples), 4)), samples, np.full(len(samples), SPEC.dt))
-            for points, ok in ((drive(parent, controls, n), keep), (drive(parent, controls, 4 * n), keep)):
+            keep = ~obs.swept(np.broadcast_to(parent, (len(samples), 4)), samples, np.full(len(samples), spec.dt))
+            for points, ok in ((drive(spec, parent, controls, n), keep), (drive(spec, parent, controls, 4 * n), keep)):
                 gap = room.signed_distance(points[..., 0], points[..., 1], RADIUS).min(axis=1)
                 worst = min(worst, gap[ok].min(initial=math.inf))
             accepted += (keep & (gap > 0.02)).sum()
@@ -128,8 +133,9 @@ def test_no_accepted_primitive_touches_an_obstacle():
     assert accepted > 0.99 * clear > 10000, (accepted, clear)
 
 
+@pytest.mark.parametrize("spec", [SPEC, REVERSING], ids=["forward", "reversing"])
 @pytest.mark.parametrize("seed", range(3))
-def test_plans_never_fail_the_dense_check(seed):
+def test_plans_never_fail_the_dense_check(seed, spec):
     """Searches in random rooms (A* and ANA*) return plans whose dense replay keeps the radius."""
     rng = np.random.default_rng(seed)
     found = 0
@@ -143,11 +149,11 @@ def test_plans_never_fail_the_dense_check(seed):
         start, goal_xy = points[0], points[-1]
         goal = Goal(tuple(goal_xy), 0.2, 0.25)
         for anytime in (False, True):
-            result = search(SPEC, room.bounds, [*start, 0.0, rng.uniform(-math.pi, math.pi)], goal,
-                            dist_heuristic(goal.xy, SPEC.v_max, goal.tolerance), pruners=Pruners(static=obs),
+            result = search(spec, room.bounds, [*start, 0.0, rng.uniform(-math.pi, math.pi)], goal,
+                            dist_heuristic(goal.xy, spec.v_max, goal.tolerance), pruners=Pruners(static=obs),
                             budget=Budget(anytime=anytime, max_expansions=20000))
             found += result.found
-            assert not result.found or plan_clearance(room, RADIUS, SPEC, result) > 0.0
+            assert not result.found or plan_clearance(room, RADIUS, spec, result) > 0.0
     assert found > 10
 
 

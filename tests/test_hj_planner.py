@@ -11,7 +11,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from navlab.core.io import DataError
 from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, ttr_heuristic
-from navlab.hj.planning import Planner, heading_tasks
+from navlab.hj.planning import Planner, heading_tasks, lattice_spec
 from navlab.hj.pruners import (
     FIParams,
     human_prune_reference,
@@ -26,6 +26,7 @@ from navlab.search.dubins_lattice import (
     LatticeSpec,
     densify,
     first_step,
+    integrate,
     primitive_table,
     snap,
     successor_samples,
@@ -34,7 +35,8 @@ from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Budget, Goal, Pruners, search, zero_heuristic
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
-SPEC = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 0.5, 3, 3, 0.25, 8, snap_states=True)
+SPEC = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 0.5, 3, 3, 0.25, 8, snap_states=True)  # forward only
+REVERSING = dataclasses.replace(SPEC, speed_levels=5, v_min=-0.5)  # levels -0.5, -0.25, 0, 0.25, 0.5
 GOAL = Goal((2.6, 1.0), 0.3, 0.25)
 RADIUS = 0.1
 
@@ -52,19 +54,19 @@ def _swept(obs, spec):
                                              np.full(len(samples), spec.dt))
 
 
-def enumerate_lattice(start):
+def enumerate_lattice(spec, start):
     """The snapped lattice reachable from ``start``, enumerated breadth-first independently of the compiled
     search: its states (cell centres) and a sparse graph of dt-cost edges."""
-    table, prune = primitive_table(SPEC), _swept(obs_pruner(ROOM, RADIUS), SPEC)
-    start = snap(SPEC, np.asarray(start, float))
+    table, prune = primitive_table(spec), _swept(obs_pruner(ROOM, RADIUS), spec)
+    start = snap(spec, np.asarray(start, float))
     start[3] = (start[3] + math.pi) % (2 * math.pi) - math.pi
     key = lambda s: tuple(np.round(s, 6))
     ids, states, edges, frontier = {key(start): 0}, [start], set(), [start]
     while frontier:
         s = frontier.pop()
-        samples = successor_samples(SPEC, table, s)
+        samples = successor_samples(spec, table, s)
         for seg in samples[~prune(s, samples)]:
-            end = snap(SPEC, seg[-1])
+            end = snap(spec, seg[-1])
             end[3] = (end[3] + math.pi) % (2 * math.pi) - math.pi
             if not (0 <= end[0] < ROOM.width and 0 <= end[1] < ROOM.height):
                 continue
@@ -77,16 +79,18 @@ def enumerate_lattice(start):
     states = np.array(states)
     src, dst = np.array(sorted(edges)).T
     n = len(states)
-    return states, coo_matrix((np.full(len(src), SPEC.dt), (src, dst)), shape=(n, n)).tocsr()
+    return states, coo_matrix((np.full(len(src), spec.dt), (src, dst)), shape=(n, n)).tocsr()
 
 
 TASKS = [((0.4, 1.0, 0.0, 0.0), GOAL), ((0.4, 0.4, 0.0, math.pi / 2), GOAL),
          ((2.6, 1.7, 0.0, math.pi), Goal((0.5, 0.4), 0.3, 0.25))]
 
 
-def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params):
+@pytest.mark.parametrize("spec", [SPEC, REVERSING], ids=["forward", "reversing"])
+def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params, spec):
     """On the snapped (fixed-graph) lattice, A* returns the cost scipy's Dijkstra finds on the enumerated
-    graph, on several tasks, with h = 0, with Dist and with the (smoke) TTR grid.
+    graph, on several tasks, with h = 0, with Dist and with the (smoke) TTR grid, for the forward-only car
+    and the reversing one (its goal test on |v|).
 
     A* is optimal for a heuristic admissible on *this* graph, and snapping makes the graph faster than the
     car: a step moves a node up to v_max·dt plus the snap, cell/√2. So the Dist that is admissible here
@@ -96,20 +100,20 @@ def test_astar_is_optimal_against_an_independent_dijkstra(grids, smoke_params):
     on these tasks, not guaranteed."""
     obs = obs_pruner(ROOM, RADIUS)
     ttr = load_ttr(smoke_params, grids)
-    v_snap = SPEC.v_max + SPEC.cell_m / (math.sqrt(2) * SPEC.dt)
+    v_snap = spec.v_max + spec.cell_m / (math.sqrt(2) * spec.dt)
     for start, goal in TASKS:
-        states, graph = enumerate_lattice(start)
+        states, graph = enumerate_lattice(spec, start)
         at_goal = (np.hypot(states[:, 0] - goal.xy[0], states[:, 1] - goal.xy[1]) <= goal.tolerance) & (
-            states[:, 2] <= goal.max_speed + 1e-9)
+            np.abs(states[:, 2]) <= goal.max_speed + 1e-9)
         best = dijkstra(graph, indices=0)[at_goal].min()
         assert np.isfinite(best)
         to_go = dijkstra(graph.T.tocsr(), indices=np.flatnonzero(at_goal), min_only=True)
         for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance)):
             assert (h(states) <= to_go + 1e-9).all(), f"{h.name} is not admissible on this lattice"
         for h in (zero_heuristic(), dist_heuristic(goal.xy, v_snap, goal.tolerance), ttr_heuristic(ttr, goal.xy)):
-            res = search(SPEC, ROOM.bounds, states[0], goal, h, pruners=Pruners(static=obs))
+            res = search(spec, ROOM.bounds, states[0], goal, h, pruners=Pruners(static=obs))
             assert res.status == "found" and res.cost == pytest.approx(best), (h.name, start)
-        ana = search(SPEC, ROOM.bounds, states[0], goal, dist_heuristic(goal.xy, v_snap, goal.tolerance),
+        ana = search(spec, ROOM.bounds, states[0], goal, dist_heuristic(goal.xy, v_snap, goal.tolerance),
                      pruners=Pruners(static=obs), budget=Budget(anytime=True))
         assert ana.cost == pytest.approx(best)  # OPEN ran empty: the last solution is optimal
         assert ana.solution_costs == sorted(ana.solution_costs, reverse=True)
@@ -219,10 +223,12 @@ def test_bad_input_stops_with_one_clear_message(grids, smoke_params):
         Planner(smoke_params, grids / "nowhere", "simulation", costs=False, margin=0.05)
 
 
-def test_compiled_astar_matches_the_plain_python_reference():
-    spec = dataclasses.replace(SPEC, snap_states=False)
-    obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance)
-    for start in ([0.4, 1.0, 0.0, 0.0], [0.4, 0.4, 0.0, math.pi], [1.0, 1.7, 0.25, -1.0]):
+@pytest.mark.parametrize("spec", [SPEC, REVERSING], ids=["forward", "reversing"])
+def test_compiled_astar_matches_the_plain_python_reference(spec):
+    spec = dataclasses.replace(spec, snap_states=False)
+    obs, h = obs_pruner(ROOM, RADIUS), dist_heuristic(GOAL.xy, spec.v_max, GOAL.tolerance)
+    starts = [[0.4, 1.0, 0.0, 0.0], [0.4, 0.4, 0.0, math.pi], [1.0, 1.7, 0.25, -1.0]]
+    for start in starts + ([[2.0, 1.0, -0.25, 0.5]] if spec.v_min < 0 else []):
         ours = search(spec, ROOM.bounds, start, GOAL, h, pruners=Pruners(static=obs))
         cost, expansions = astar_reference(spec, ROOM.bounds, start, GOAL.xy, GOAL.tolerance, GOAL.max_speed, h,
                                            _swept(obs, spec))
@@ -449,3 +455,78 @@ def test_an_upper_bound_makes_ana_star_search_only_for_cheaper_plans():
     with pytest.raises(ValueError, match="positive cost"):
         search(SPEC, ROOM.bounds, [0.4, 1.0, 0.0, 0.0], GOAL, dist_heuristic(GOAL.xy, SPEC.v_max, GOAL.tolerance),
                budget=Budget(anytime=True), upper_bound=float("nan"))
+
+
+# --- the reversing car (paper Sec. VII-A, Fig. 6: "a slight reversal followed by a precise reorientation") ---
+
+
+def test_reversing_speed_levels_integrate_and_primitives(smoke_params):
+    """params.yaml's lattice: 13 levels from v_min = -0.5 to 1 m/s, 0 among them; speeds clip at v_min
+    as at v_max, a negative speed drives the car backwards along its heading, and every primitive ends on a
+    level in [v_min, v_max]."""
+    spec = lattice_spec(smoke_params)
+    assert (spec.v_min, spec.dv, spec.zero_level, spec.speed_levels) == (-0.5, 0.125, 4, 13)
+    assert spec.speeds[0] == -0.5 and spec.speeds[4] == 0.0 and spec.speeds[-1] == 1.0
+    assert [spec.level(v) for v in (-0.5, -0.125, 0.0, 1.0)] == [0, 3, 4, 12]
+    for bad in (-0.625, 0.06, 1.125):
+        with pytest.raises(ValueError, match="not a lattice speed level"):
+            spec.level(bad)
+    back = integrate(np.array([2.0, 1.0, -0.25, 0.0]), -0.5, 0.0, 1.0, 8, spec.v_range)
+    assert back[-1, 2] == -0.5 and (np.diff(back[:, 0]) < 0).all() and back[-1, 0] < 2.0 - 0.25
+    table = primitive_table(spec)
+    assert table.shape == (13, spec.n_primitives, spec.samples_per_step, 4)
+    ends = table[:, :, -1, 2]
+    assert np.isin(ends, spec.speeds).all() and ends.min() == -0.5 and ends.max() == 1.0
+    a = spec.controls[:, 0]
+    assert (ends[0, a < 0] == -0.5).all()  # clipped at v_min
+    rest = table[spec.zero_level, a == -0.5, -1]  # from rest, the hardest "braking" reverses: 0.25 m/s back
+    assert (rest[:, 2] == -0.25).all() and (rest[:, 0] < 0).all()
+    rows, controls = first_step(spec, -0.3)  # an off-level reversing speed ends on the levels too
+    assert np.isin(rows[:, -1, 2], spec.speeds).all() and np.allclose(controls[:, 0], a + (-0.25 + 0.3) / spec.dt)
+    with pytest.raises(ValueError, match=r"outside the lattice's \[-0.5, 1\]"):
+        first_step(spec, -0.6)
+    with pytest.raises(ValueError, match="0 m/s is not a speed level"):
+        LatticeSpec(0.5, (-0.5, 0.5), (0.0,), 0.9, 6, 2, 0.2, 8, v_min=-0.35)
+    forward = dataclasses.replace(spec, v_min=0.0, speed_levels=9)  # the forward-only variant
+    assert forward.zero_level == 0 and primitive_table(forward)[:, :, -1, 2].min() == 0.0
+
+
+def test_a_reversing_car_backs_out_of_a_dead_end():
+    """A dead-end corridor 0.8 m wide, the car facing its end wall 0.5 m ahead, the goal 1.5 m behind it:
+    the reversing car backs straight out (negative speeds); the forward-only one (hj.grids.robot.v_min = 0,
+    the labelled variant) must first turn on the spot (a disc robot can; the corridor holds no U-turn),
+    which takes it much longer."""
+    corridor = Room("dead end", 3.0, 0.8, obstacles=())
+    radius, start, goal = 0.285, np.array([2.5, 0.4, 0.0, 0.0]), Goal((1.0, 0.4), 0.2, 0.25)
+    reversing = LatticeSpec(0.5, (-0.5, -0.25, 0.0, 0.25, 0.5), (-1.0, -0.5, 0.0, 0.5, 1.0), 1.0, 13, 4, 0.2, 24,
+                            v_min=-0.5)
+    forward = dataclasses.replace(reversing, v_min=0.0, speed_levels=9)
+    obs, h = obs_pruner(corridor, radius), dist_heuristic(goal.xy, 1.0, goal.tolerance)
+    back, ahead = (search(spec, corridor.bounds, start, goal, h, pruners=Pruners(static=obs))
+                   for spec in (reversing, forward))
+    assert back.found and ahead.found
+    assert back.states[:, 2].min() <= -0.25 and (np.abs(np.diff(back.states[:, 3])) < 0.3).all()  # straight back
+    assert ahead.states[:, 2].min() >= 0.0
+    assert back.cost <= ahead.cost - 1.5, (back.cost, ahead.cost)
+    dense = densify(reversing, start, back.controls)  # the plan as driven clears the walls
+    assert (corridor.signed_distance(dense[:, 0], dense[:, 1], radius) > 0).all()
+
+
+def test_the_forward_only_car_is_a_params_variant(smoke_params):
+    """hj.grids.robot.v_min = 0 (with hj.planner.lattice.speed_levels = 9: 0.125 m/s apart) is the forward-only
+    car, a labelled variant: the lattice's levels and every grid's speed axis start at 0. A speed_levels that
+    does not fit the new range is refused with the lattice's message."""
+    from navlab.reach.precompute import specs
+
+    h = smoke_params.hj
+    robot = dataclasses.replace(h.grids.robot, v_min=0.0)
+    lattice = dataclasses.replace(h.planner.lattice, speed_levels=9)
+    forward = dataclasses.replace(smoke_params, hj=dataclasses.replace(
+        h, grids=dataclasses.replace(h.grids, robot=robot), planner=dataclasses.replace(h.planner, lattice=lattice)))
+    spec = lattice_spec(forward)
+    assert spec.v_min == 0.0 and spec.zero_level == 0 and np.allclose(spec.speeds, np.arange(9) * 0.125)
+    assert {s.grid.lo[2] for s in specs(forward)} == {0.0}
+    assert {s.grid.lo[2] for s in specs(smoke_params)} == {-0.5}
+    unfit = dataclasses.replace(forward, hj=dataclasses.replace(forward.hj, planner=h.planner))  # 13 levels over [0, 1]
+    with pytest.raises(ValueError, match="is not a whole number of speed levels"):
+        lattice_spec(unfit)

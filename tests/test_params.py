@@ -114,6 +114,8 @@ _drop = object()
     ("hj.grids.map_ttr.goal_xy", [4.2, 30], "hj.grids.map_ttr.goal_xy[1] = 30.0: out of range, allowed between 0.0"),
     ("quickstart.soft_cost.road", 0.5, "quickstart.soft_cost.road = 0.5: out of range, allowed >= 1.0"),
     ("hj.grids.ttr.shape", [21, 21, 5], "hj.grids.ttr.shape = [21, 21, 5]: expected a list of 4 items"),
+    ("hj.grids.robot.v_min", 0.5, "hj.grids.robot.v_min = 0.5: out of range, allowed between -10.0 and 0.0"),
+    ("hj.grids.robot.v_min", -2.0, "hj.grids.robot.v_min = -2 is below -v_max = -1: the heuristics"),  # a cross check
     ("hj.grids.ttr.shape", [21, 21, 5, 12, 3], "hj.grids.ttr.shape = [21, 21, 5, 12, 3]: expected a list of 4 items"),
     # unknown and missing keys, nested; a key whose schema once had a default is required all the same
     ("hj.grids.solver.order", 2, "hj.grids.solver.order: unknown key; allowed keys here are cfl, rk_order, scheme"),

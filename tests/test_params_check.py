@@ -100,12 +100,12 @@ def test_dry_run_names_each_misfit():
 def test_misfits_are_one_line_per_key(tmp_path, capsys):
     """gpu aerial maps covering 501 m of the 500-px test maps and a default TTR grid over the CPU budget."""
     path = _edited(tmp_path, (GPU_AERIAL, "gpu: 1002, paper: 1024}"),
-                   ("default: [81, 81, 11, 36], paper: [481", "default: [801, 801, 11, 36], paper: [481"))
+                   ("default: [81, 81, 16, 36], paper: [481", "default: [801, 801, 16, 36], paper: [481"))
     assert main(["params", "check", "--params", str(path)]) == 2
     errors = capsys.readouterr().err.splitlines()
     assert len(errors) == 2, errors  # gpu stops at load; its TTR grid (default's) fits its 96 GiB anyway
     assert sum("[gpu] pacer.data.aerial.size = 1002 at pacer.data.layout.street_zoom = 2 covers 501" in e for e in errors) == 1
-    assert sum("[default] hj.grids.ttr.shape = [801, 801, 11, 36]" in e for e in errors) == 1
+    assert sum("[default] hj.grids.ttr.shape = [801, 801, 16, 36]" in e for e in errors) == 1
 
 
 def test_one_profile(capsys):

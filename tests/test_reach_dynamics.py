@@ -1,5 +1,6 @@
 """Closed-form Hamiltonians against brute force over sampled inputs, and their dissipation bounds."""
 
+import dataclasses
 import math
 
 import pytest
@@ -11,7 +12,9 @@ from navlab.reach.dynamics import DubinsCar4D, HumanRobotRelative
 from reach_dynamics_support import DoubleIntegrator, SingleIntegratorPursuitEvasion
 
 CAR = DubinsCar4D(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2)
-HUMAN = HumanRobotRelative(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2, human_speed=0.8)
+# the reversing car (paper Sec. VII-A: "a slight reversal followed by a precise reorientation")
+REVERSING = DubinsCar4D(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2, v_min=-0.5)
+HUMAN = HumanRobotRelative(v_max=1.0, a_min=-1.5, a_max=0.8, omega_max=1.2, human_speed=0.8, v_min=-0.5)
 finite = st.floats(-3, 3)
 
 
@@ -23,14 +26,14 @@ def _t(*xs):
     return [torch.tensor([x], dtype=torch.float64) for x in xs]
 
 
-def _car_brute_force(state, grad, mode):
+def _car_brute_force(car, state, grad, mode):
     v = float(state[2])
-    a_lo = 0.0 if v <= 0 else CAR.a_min
-    a_hi = 0.0 if v >= CAR.v_max else CAR.a_max
+    a_lo = 0.0 if v <= car.v_min else car.a_min
+    a_hi = 0.0 if v >= car.v_max else car.a_max
     best = None
     for a in _inputs(a_lo, a_hi):
-        for w in _inputs(-CAR.omega_max, CAR.omega_max):
-            f = CAR.velocity(state, (a.reshape(1), w.reshape(1)))
+        for w in _inputs(-car.omega_max, car.omega_max):
+            f = car.velocity(state, (a.reshape(1), w.reshape(1)))
             value = sum(p * fi for p, fi in zip(grad, f))
             best = (
                 value
@@ -44,15 +47,17 @@ def _car_brute_force(state, grad, mode):
 @given(
     x=finite,
     y=finite,
-    v=st.sampled_from([0.0, 0.3, 1.0]),
+    v=st.sampled_from([-0.5, -0.2, 0.0, 0.3, 1.0]),
     th=st.floats(-math.pi, math.pi),
     p=st.tuples(finite, finite, finite, finite),
     mode=st.sampled_from(["min", "max"]),
+    v_min=st.sampled_from([0.0, -0.5]),
 )
-def test_car_hamiltonian_and_optimal_control_match_brute_force(x, y, v, th, p, mode):
-    car = DubinsCar4D(CAR.v_max, CAR.a_min, CAR.a_max, CAR.omega_max, control_mode=mode)
-    state, grad = _t(x, y, v, th), _t(*p)
-    brute = _car_brute_force(state, grad, mode)
+def test_car_hamiltonian_and_optimal_control_match_brute_force(x, y, v, th, p, mode, v_min):
+    """Forward-only (v_min = 0, speeds below it clamp to it) and reversing."""
+    car = DubinsCar4D(CAR.v_max, CAR.a_min, CAR.a_max, CAR.omega_max, control_mode=mode, v_min=v_min)
+    state, grad = _t(x, y, max(v, v_min), th), _t(*p)
+    brute = _car_brute_force(car, state, grad, mode)
     assert float(car.hamiltonian(state, grad)) == pytest.approx(float(brute), abs=1e-9)
     f = car.velocity(state, car.optimal_control(state, grad))
     assert float(sum(g * fi for g, fi in zip(grad, f))) == pytest.approx(float(brute), abs=1e-9)
@@ -68,14 +73,37 @@ def test_car_hamiltonian_and_optimal_control_match_brute_force(x, y, v, th, p, m
 def test_speed_limits_make_the_speed_axis_invariant():
     lo, hi = CAR.acceleration_bounds(torch.tensor([0.0, 0.5, 1.0], dtype=torch.float64))
     assert lo.tolist() == [0.0, -1.5, -1.5] and hi.tolist() == [0.8, 0.8, 0.0]
+    # reversing: braking through 0 is allowed, only v_min stops it
+    lo, hi = REVERSING.acceleration_bounds(torch.tensor([-0.5, -0.2, 0.0, 1.0], dtype=torch.float64))
+    assert lo.tolist() == [0.0, -1.5, -1.5, -1.5] and hi.tolist() == [0.8, 0.8, 0.8, 0.0]
+
+
+@pytest.mark.parametrize("mode", ["min", "max"])
+@pytest.mark.parametrize("model", [CAR, REVERSING, HUMAN],
+                         ids=["forward", "reversing", "human-robot reversing"])
+def test_optimal_controls_keep_the_speed_in_its_range(model, mode):
+    """For any gradient the optimal acceleration points into [v_min, v_max] at its ends (a >= 0 at v_min,
+    a <= 0 at v_max): the grid's speed axis is invariant, a reversing car's as the forward one's."""
+    model = dataclasses.replace(model, control_mode=mode)
+    gen = torch.Generator().manual_seed(0)
+    v = torch.linspace(model.v_min, model.v_max, 7, dtype=torch.float64).repeat_interleave(64)
+    state = [torch.randn(len(v), generator=gen, dtype=torch.float64) for _ in model.state_names]
+    state[2] = v
+    grad = [torch.randn(len(v), generator=gen, dtype=torch.float64) for _ in model.state_names]
+    a = model.optimal_control(state, grad)[0]
+    assert (a[v == model.v_min] >= 0).all() and (a[v == model.v_max] <= 0).all()
+    assert (a[v == model.v_min] > 0).any() and (a[v == model.v_max] < 0).any()  # it does move off them
+    inside = (v > model.v_min) & (v < model.v_max)
+    assert (a[inside] < 0).any() and (a[inside] > 0).any()
 
 
 @settings(max_examples=30, deadline=None)
-@given(px=finite, py=finite, v=st.sampled_from([0.0, 0.6, 1.0]), g=st.tuples(finite, finite, finite))
+@given(px=finite, py=finite, v=st.sampled_from([-0.5, -0.2, 0.0, 0.6, 1.0]), g=st.tuples(finite, finite, finite))
 def test_human_robot_hamiltonian_is_the_max_min_over_robot_and_human_inputs(px, py, v, g):
+    """With a reversing robot (v_min = -0.5; the forward-only one is its restriction to v >= 0)."""
     state, grad = _t(px, py, v), _t(*g)
     betas = torch.linspace(-math.pi, math.pi, 721, dtype=torch.float64)
-    a_lo = 0.0 if v <= 0 else HUMAN.a_min
+    a_lo = 0.0 if v <= HUMAN.v_min else HUMAN.a_min
     a_hi = 0.0 if v >= HUMAN.v_max else HUMAN.a_max
     best = -math.inf
     for a in _inputs(a_lo, a_hi, 5):

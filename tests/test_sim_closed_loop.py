@@ -108,6 +108,29 @@ def test_a_planner_answering_none_keeps_the_current_plan_and_an_empty_plan_brake
     assert runs["keep"].trips[0].kept_plans == runs["keep"].trips[0].replans - 1
 
 
+def test_a_reversing_car_backs_up_and_brakes_to_rest_from_either_side():
+    """Two seconds of reversing commands, then none: the reversing car (v_min = -0.5, paper Sec. VII-A) backs
+    up at down to -0.5 m/s and, once the plan runs out, brakes (a > 0) to rest, not on into forward motion; the
+    forward-only car (v_min = 0) stays where it is under the same commands."""
+
+    class Back(_OnePlan):
+        def __call__(self, observation):
+            self.calls += 1
+            return np.array([[-0.5, 0.0]] * 4) if self.calls == 1 else None
+
+    room, start = load_room("open"), start_state((4.0, 2.7), 0.0)
+    runs = {v_min: run_patrol(Back(None), room.obstacle_distance, start, [(8.6, 2.7)], [],
+                              SimSettings(trip_timeout_s=3.5, deadlock_s=10.0, v_min=v_min), np.random.default_rng(0))
+            for v_min in (-0.5, 0.0)}
+    back = np.array(runs[-0.5].trajectory)  # rows t, x, y, v, θ
+    assert back[:, 3].min() == pytest.approx(-0.5) and back[-1, 3] == 0.0 and (back[:, 3] <= 0.0).all()
+    assert back[-1, 1] == pytest.approx(3.0, abs=0.01)  # 0.75 m backing up in 2 s (the plan), 0.25 m braking
+    still = np.array(runs[0.0].trajectory)
+    assert (still[:, 3] == 0.0).all() and (still[:, 1] == 4.0).all()
+    with pytest.raises(ValueError, match="v_min must lie in"):
+        SimSettings(v_min=-2.0)
+
+
 def test_the_car_drives_the_trajectory_its_plan_was_checked_on():
     """Commands switch at 0.5 s steps while the control ticks every 0.04 s: the tick that straddles a step
     boundary is split there, so the driven states at the step ends are the plan's own (holding a command
@@ -159,7 +182,7 @@ def test_a_new_plan_replaces_a_safe_one_only_if_it_arrives_sooner(loop):
     assert first is not None and len(first) > 0
     from navlab.search.dubins_lattice import integrate
 
-    moved = integrate(np.array([1.0, 2.7, 0.0, 0.0]), *first[0], 0.12, 12, 1.0)[-1]
+    moved = integrate(np.array([1.0, 2.7, 0.0, 0.0]), *first[0], 0.12, 12, loop.spec.v_range)[-1]
     seen = Observation(0.12, moved, goal, np.zeros((0, 2)), np.zeros((0, 2)))
     assert policy(seen) is None
     slow = np.vstack([first, np.zeros((10, 2))])  # the same plan then standing still for 5 s
@@ -203,7 +226,7 @@ def test_without_a_plan_the_car_evades_only_where_braking_would_enter_the_human_
     assert isinstance(out, Evasion) and len(out.commands) == 1
 
     def value(a, omega):
-        seg = integrate(state, a, omega, 0.5, 4, 1.0)
+        seg = integrate(state, a, omega, 0.5, 4, loop.spec.v_range)
         at = human + np.arange(1, 5)[:, None] * 0.125 * walking
         return float(policy.human_brt(seg, at).min())
 
@@ -219,7 +242,9 @@ def test_a_search_from_rest_runs_on_over_periods_while_the_car_waits(loop):
     plan found is taken: ``rest_bound`` inf.)"""
     room = load_room("dense_room")
     at_b, goal = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"]
-    policy = loop.policy(room, "Dist", "OBS")
+    # the swept OBS (ours): the paper's point check passes plans that graze this room's walls, which the policy
+    # rejects, so its periods would not add up to one search (test_hj_collision covers that rule)
+    policy = dataclasses.replace(loop.policy(room, "Dist", "OBS"), static=obs_pruner(room, loop.robot.radius_m))
     policy.max_expansions, policy.rest_periods, policy.rest_bound = 20000, 1, math.inf
     plans = [policy(Observation(k / 12, at_b, goal, np.zeros((0, 2)), np.zeros((0, 2)))) for k in range(4)]
     found = [p is not None and len(p) > 0 for p in plans]
@@ -268,7 +293,8 @@ def test_with_humans_in_view_a_search_from_rest_is_rerun_for_rest_periods(loop):
     at_b, goal, far = np.array([6.6, 2.8, 0.0, math.pi]), room.goals["A"], np.array([[9.2, 0.3]])
 
     def plans(rest_periods):
-        policy = loop.policy(room, "Dist", "OBS", "obs")
+        policy = loop.policy(room, "Dist", "OBS", "obs")  # on the swept OBS (ours), as above
+        policy = dataclasses.replace(policy, static=obs_pruner(room, loop.robot.radius_m))
         policy.max_expansions, policy.rest_periods = 20000, rest_periods
         return [policy(Observation(k / 12, at_b, goal, far, np.zeros((1, 2)))) for k in range(4)]
 

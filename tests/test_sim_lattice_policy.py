@@ -55,10 +55,12 @@ def _open_policy(max_expansions=200_000):
 
 
 def _stops_clear_by_replay(spec, room, state, control) -> bool:
-    """The step (a, ω) held for dt from ``state``, then braking straight to rest, densely replayed."""
-    step = integrate(state, control[0], control[1], spec.dt, 200, spec.v_max)
+    """The step (a, ω) held for dt from ``state``, then braking straight to rest (a > 0 reversing), densely
+    replayed."""
+    step = integrate(state, control[0], control[1], spec.dt, 200, spec.v_range)
     end = step[-1]
-    stop = integrate(end, min(spec.accelerations), 0.0, end[2] / -min(spec.accelerations), 200, spec.v_max)
+    brake = min(spec.accelerations) if end[2] >= 0.0 else max(spec.accelerations)
+    stop = integrate(end, brake, 0.0, end[2] / -brake, 200, spec.v_range)
     path = np.concatenate([step, stop])
     return bool((room.signed_distance(path[:, 0], path[:, 1], ROBOT_R) > 0.0).all())
 
@@ -84,6 +86,31 @@ def test_without_a_plan_a_car_swerves_where_braking_straight_would_hit_the_wall(
             kinds.add("brake")
             assert len(answer) == 0 and straight
     assert kinds == {"none", "swerve", "brake"}
+
+
+def test_a_reversing_car_brakes_forwards_to_rest_where_that_stops_clear():
+    """Backing up at 0.5 m/s towards the west wall (facing east), 0.1 to 0.5 m from it: ``_stop`` brakes
+    straight (a > 0, 0.25 m to rest) where that stops clear by a dense replay, else a first step after which
+    braking does, else None; never a step that drives on backwards faster."""
+    spec, room, policy = _open_policy()
+    assert spec.v_min < 0.0  # params.yaml's car reverses
+    kinds = set()
+    for gap in np.linspace(0.1, 0.5, 15):
+        state = np.array([ROBOT_R + gap, 2.7, -0.5, 0.0])
+        answer = policy._stop(state)
+        straight = _stops_clear_by_replay(spec, room, state, (max(spec.accelerations), 0.0))
+        assert policy._brakes_clear(state[None]) == straight
+        if answer is None:
+            kinds.add("none")
+            assert not any(_stops_clear_by_replay(spec, room, state, c) for c in first_step(spec, -0.5)[1])
+        elif isinstance(answer, Evasion):
+            kinds.add("step")
+            assert not straight and answer.commands[0, 0] >= 0.0
+            assert _stops_clear_by_replay(spec, room, state, answer.commands[0])
+        else:
+            kinds.add("brake")
+            assert len(answer) == 0 and straight
+    assert {"none", "brake"} <= kinds
 
 
 def test_a_car_that_cannot_stop_clear_keeps_its_plan_rather_than_brake_into_the_wall():

@@ -4,6 +4,7 @@ and every accepted primitive clears the obstacles by the robot radius under a de
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -59,15 +60,18 @@ def test_every_primitive_ends_exactly_on_a_lattice_state():
 
 
 def test_every_primitive_is_dynamically_feasible():
-    """Each primitive is a trajectory of the car: |ω| <= omega_max (κ · v on its arc), a within bounds,
-    0 <= v <= v_max, heading continuous and tangent to the motion; a turn in place only at rest."""
+    """Each primitive is a trajectory of the car: |ω| <= omega_max (κ · |v| on its arc), a within bounds,
+    v_min <= v <= v_max, heading continuous and tangent to the motion (opposite to it reversing, v < 0);
+    a turn in place only at rest."""
     for p in range(len(PRIMS.cost)):
         rows = _rows(p)
         dt = np.diff(rows[:, 4])
         turn = np.abs(wrap(np.diff(rows[:, 3])))
         assert (dt > 0).all()
         assert (turn / dt <= CAR.omega_max + 1e-9).all()  # the mean turn rate between samples
-        assert (rows[:, 2] >= 0.0).all() and (rows[:, 2] <= CAR.v_max + 1e-12).all()
+        assert (rows[:, 2] >= CAR.v_min - 1e-12).all() and (rows[:, 2] <= CAR.v_max + 1e-12).all()
+        back = PRIMS.speeds[p].sum() < 0.0
+        assert (rows[:, 2] <= 0.0).all() if back else (rows[:, 2] >= 0.0).all()  # no cusp within a primitive
         accel = np.diff(rows[:, 2]) / dt
         assert (accel >= CAR.accel_min - 1e-9).all() and (accel <= CAR.accel_max + 1e-9).all()
         if PRIMS.length[p] == 0.0:  # in place: at rest, one heading step at omega_max
@@ -79,14 +83,14 @@ def test_every_primitive_is_dynamically_feasible():
         chord = np.diff(rows[:, :2], axis=0)
         assert (np.hypot(*chord.T) <= step + 1e-9).all()  # chord <= arc
         # heading continuous and tangent to the motion: each chord points between its end headings
-        middle = rows[:-1, 3] + 0.5 * wrap(np.diff(rows[:, 3]))
+        middle = rows[:-1, 3] + 0.5 * wrap(np.diff(rows[:, 3])) + (math.pi if back else 0.0)
         assert (np.abs(wrap(np.arctan2(chord[:, 1], chord[:, 0]) - middle)) <= 0.5 * turn + 1e-9).all()
         _, straight1, radius, arc_turn, _ = PRIMS.geometry[p]
         if arc_turn != 0.0:
             assert (turn <= step / radius + 1e-9).all()
             s = np.linspace(0.0, PRIMS.length[p], len(rows))
             on_arc = (s >= straight1 - 1e-12) & (s <= straight1 + radius * abs(arc_turn) + 1e-12)
-            assert (rows[on_arc, 2] / radius <= CAR.omega_max + 1e-9).all()  # κ · v <= omega_max on the arc
+            assert (np.abs(rows[on_arc, 2]) / radius <= CAR.omega_max + 1e-9).all()  # κ · |v| <= omega_max on the arc
 
 
 def test_primitive_table_is_d4_symmetric():
@@ -152,7 +156,28 @@ def test_accepted_primitives_clear_obstacles_by_the_robot_radius_densely():
     kept = lat.clear(cells, ids)
     assert 0 < kept.sum() < len(kept)
     counts = np.full(kept.sum(), 400)
-    dense = sample_paths(PRIMS.geometry[ids[kept]], PRIMS.speeds[ids[kept]], counts, CAR.omega_max)
+    dense = sample_paths(PRIMS.geometry[ids[kept]], np.abs(PRIMS.speeds[ids[kept]]), counts, CAR.omega_max)
     base = np.repeat(lat.origin + cells[kept] * SETTINGS.cell_m, counts + 1, axis=0)
     clearance = room.obstacle_distance(base[:, 0] + dense[:, 0], base[:, 1] + dense[:, 1])
     assert clearance.min() > ROBOT.radius_m
+
+
+def test_the_reversing_car_backs_out_where_the_forward_one_turns_in_place():
+    """params.yaml's car reverses (v_min = -0.5): its lattice has the levels -0.5 and -0.25 and every
+    forward primitive driven backwards. In a dead-end corridor facing the end wall, with the goal behind,
+    it backs straight out; the forward-only car (v_min = 0, the labelled variant) spins on the spot first,
+    which takes longer."""
+    assert SETTINGS.speeds == (-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0)
+    assert (PRIMS.speeds.sum(axis=1) < 0).any()
+    corridor = Room("dead end", 3.0, 0.8, ())
+    field = clearance_field(corridor)
+    clearance = Clearance(field, field_error(field), ROBOT.radius_m)
+    start, goal = (2.5, 0.4, 0.0, 0.0), Goal((1.0, 0.4), GOAL_TOL, GOAL_SPEED)
+    forward_settings = LatticeSettings(dataclasses.replace(CAR, v_min=0.0))
+    assert forward_settings.speeds == (0.0, 0.25, 0.5, 0.75, 1.0)
+    back = Lattice(SETTINGS, clearance, start[:2], PRIMS).search(start, goal)
+    ahead = Lattice(forward_settings, clearance, start[:2]).search(start, goal)
+    assert back.found and ahead.found
+    assert back.states[:, 2].min() < 0.0 and ahead.states[:, 2].min() == 0.0
+    assert back.cost < ahead.cost - 1.0, (back.cost, ahead.cost)
+

@@ -139,9 +139,7 @@ CLAIMS: dict[str, PaperClaim] = registry(
                   "paired test exists; both means are in the rows (nodes_all, nodes_common)"),
     _c("fig6_reversal", "TTR guides the car through a slight reversal, then a reorientation",
        "it effectively guided the robot to execute a slight reversal followed by a precise reorientation toward "
-       "the goal", "Sec. VII-A, Fig. 6",
-       not_tested="our car cannot reverse (v in [0, v_max], as the HJ grids): a known difference from the paper's "
-                  "model"),
+       "the goal", "Sec. VII-A, Fig. 6", "a reversal, then a reorientation", T2),
     # Sec. VII-B, Table III: A* (Dist), OBS vs BRT, 4 start headings
     _c("t3_success", "both A* planners solve all 4 tasks",
        "both A*-based planners finished all 4 tasks within the maximum iteration limit", "Sec. VII-B, Table III",
@@ -489,11 +487,16 @@ def table2_claims(results: Mapping[str, Sequence], seed: int) -> list[Claim]:
     d, t = "ANA* w/ Dist", "ANA* w/ TTR"
     c = CLAIMS
     located = _misaligned_failures(results, d)
-    reverse = ("Dist solves every task here: the paper's Dist failures were persistent backward movements into local "
-               "minima, and our car cannot reverse (v in [0, v_max]; it re-orients on turning arcs)"
-               if all(r.success for r in results[d]) else "")
+    reverse = ("Dist solves every task here although our car reverses as the paper's does: within our lattice, "
+               "budget and room the anytime search leaves the local minima the paper reports (persistent backward "
+               "movements)" if all(r.success for r in results[d]) else "")
+    fig6 = max(range(len(results[t])), key=lambda i: abs(math.cos(results[t][i].start[3]) - 1))  # as notebook 01
+    shown = results[t][fig6]
+    reversal = every([shown.found and shown.min_speed < 0.0], "plan", "reversing (a negative speed)")
     return [
         c["t2_ttr_solves_all"].decide(_solves(results, t)),
+        c["fig6_reversal"].decide(reversal, f"{t} from heading {math.degrees(shown.start[3]):.0f}° (the most "
+                                            f"misaligned start, Fig. 6's): lowest speed {shown.min_speed:.3f} m/s"),
         c["t2_dist_count"].decide(_count(results, d, 7, 12), why=reverse),
         c["t2_ttr_more"].decide(_more(results, t, d), why=reverse),
         c["t2_misaligned"].untested(f"{d} fails none of our {len(results[d])} tasks: no failure to locate")
@@ -825,8 +828,7 @@ def fig2_claims(rows: Sequence[dict], slack_s: float) -> list[Claim]:
         return exact_comparison(down[col], up[col], "higher", (f"{down['heading']}", f"{up['heading']}"))
 
     disc = f"; the TTR is the time to the goal disc, Dist to its centre ({slack_s:.2f} s apart at v_max)"
-    reverse = ("our car cannot reverse (v in [0, v_max]): a known difference from the paper's model, which another "
-               "issue addresses; " + OUR_LAYOUT)
+    reverse = OUR_LAYOUT
     return [
         c["fig2_ttr_over_dist"].decide(all_of({"map-based": above("map_ttr_s", "map_dist_s"),
                                                  "general": above("general_ttr_s", "general_dist_s")}),

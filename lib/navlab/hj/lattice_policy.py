@@ -331,7 +331,7 @@ class LatticePolicy:
         for xy, v in zip(humans, velocities, strict=True):
             at = np.broadcast_to(xy + times[:, None] * v, (n, m, 2)).reshape(-1, 2)
             value = np.minimum(value, self.human_brt(samples.reshape(-1, 4), at).reshape(n, m).min(axis=1))
-        brake = int(np.argmin(np.where(controls[:, 1] == 0.0, controls[:, 0], np.inf)))  # hardest, straight
+        brake = _stopping(rows, controls, float(state[2]))[0]  # the straight step closest to rest
         if value[brake] >= self.fi.margin or not (clear := self._stops_clear(state, samples)).any():
             stop = self._stop(state)
             return np.zeros((0, 2)) if stop is None else stop
@@ -347,17 +347,18 @@ class LatticePolicy:
 
     def _stop(self, state: np.ndarray) -> np.ndarray | Evasion | None:
         """No plan in force: brake straight (the simulator's fallback, an empty command list) where that stops
-        clear of the walls; else the first step, swept clear, after which braking straight does, the hardest
-        braking first (a one-step safety controller, re-decided at every re-plan); None where no step does.
+        clear of the walls; else the first step, swept clear, after which braking straight does, the one ending
+        nearest rest first (``_stopping``: a one-step safety controller, re-decided at every re-plan); None
+        where no step does.
         Braking straight from 1 m/s needs 1 m: a car that gave up a plan turning away from a wall 0.4 m ahead
         (its re-check from a pose 2 cm off failed) braked straight into it (a Dense Room wall hit, measured)."""
-        if state[2] <= 0.0 or self._brakes_clear(state[None]):
+        if state[2] == 0.0 or self._brakes_clear(state[None]):
             return np.zeros((0, 2))
         rows, controls = first_step(self.spec, float(state[2]))
         clear = self._stops_clear(state, place(rows, state))
         if not clear.any():
             return None
-        order = np.lexsort((np.abs(controls[:, 1]), controls[:, 0]))  # hardest braking, then least turning
+        order = _stopping(rows, controls, float(state[2]), straight=False)
         best = int(order[np.argmax(clear[order])])
         return Evasion(controls[best:best + 1])
 
@@ -369,11 +370,14 @@ class LatticePolicy:
         return len(plan) * self.spec.dt - (float(observation.time) - issued)
 
     def _brakes_clear(self, states: np.ndarray) -> bool:
-        """Braking straight (the lattice's lowest acceleration, ω = 0) to a stop from each of ``states`` stays
-        clear of the walls."""
-        brake = min(self.spec.accelerations)
-        stops = [integrate(s, brake, 0.0, s[2] / -brake, max(1, int(np.ceil(s[2] / -brake / 0.05))), self.spec.v_max)
-                 for s in states if s[2] > 0.0]
+        """Braking straight to a stop from each of ``states`` stays clear of the walls: the lattice's lowest
+        acceleration (ω = 0) going forwards, its highest reversing (the simulator's fallback, ``sim.receding_horizon``)."""
+        stops = []
+        for s in states:
+            if s[2] != 0.0:
+                brake = min(self.spec.accelerations) if s[2] > 0.0 else max(self.spec.accelerations)
+                span = s[2] / -brake
+                stops.append(integrate(s, brake, 0.0, span, max(1, int(np.ceil(span / 0.05))), self.spec.v_range))
         return not stops or bool((self.room.signed_distance(*np.concatenate(stops)[:, :2].T, self.robot_radius) > 0.0).all())
 
     def _still_safe(self, observation, static: StaticPruner, human) -> bool:
@@ -399,7 +403,7 @@ class LatticePolicy:
             duration = dt - (elapsed - k * dt) if i == k else dt
             if duration <= 1e-9:
                 continue
-            seg = integrate(state, float(plan[i, 0]), float(plan[i, 1]), duration, n, self.spec.v_max)
+            seg = integrate(state, float(plan[i, 0]), float(plan[i, 1]), duration, n, self.spec.v_range)
             parents.append(state)
             segments.append(seg)
             starts.append(sum(durations))
@@ -414,3 +418,12 @@ class LatticePolicy:
         if check.swept(parents, segments, np.array(durations)).any():
             return False
         return not (human.kind != NO_HUMAN.kind and human(parents, segments, np.array(starts), np.array(durations)).any())
+
+
+def _stopping(rows: np.ndarray, controls: np.ndarray, v: float, straight: bool = True) -> np.ndarray:
+    """First-step primitive indices (``first_step``'s rows and controls from speed ``v``) ordered by how near
+    rest each ends, then by the harder braking (towards 0 from either side: a car that reverses brakes with
+    a > 0), then by the least turning; ``straight``: only those with ω = 0. Why not simply the lowest
+    acceleration: from rest, or reversing, that one drives (further) backwards."""
+    order = np.lexsort((np.abs(controls[:, 1]), controls[:, 0] * np.sign(v), np.abs(rows[:, -1, 2])))
+    return order[controls[order, 1] == 0.0] if straight else order

@@ -58,7 +58,7 @@ def lattice_spec(params: Params) -> LatticeSpec:
     if max(abs(w) for w in lat.turn_rates) > robot.omega_max:
         raise ValueError(f"hj.planner.lattice.turn_rates exceed hj.grids.robot.omega_max = {robot.omega_max}")
     return LatticeSpec(lat.dt_s, lat.accelerations, lat.turn_rates, robot.v_max, lat.speed_levels,
-                       lat.samples_per_step, lat.cell_m, lat.heading_bins)
+                       lat.samples_per_step, lat.cell_m, lat.heading_bins, v_min=robot.v_min)
 
 
 def costmap_field(room: Room, robot_radius: float, decay: float, resolution: float = 0.02) -> GridField:
@@ -93,6 +93,7 @@ class TaskResult:
     first_cost: float
     seconds: float
     bound: float
+    min_speed: float = math.nan  # the plan's lowest speed (m/s; < 0: it reverses), NaN without a plan
 
     @property
     def feasible(self) -> bool:
@@ -174,7 +175,8 @@ class Planner:
             heuristic, pruner, algorithm, tuple(map(float, start)), goal.xy, res.status, res.found, clearance,
             int(first if first is not None else res.expansions), res.expansions, res.cost,
             res.solution_costs[0] if res.solution_costs else res.cost, res.seconds,
-            res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf))
+            res.solution_bounds[-1] if res.solution_bounds else (1.0 if res.found else math.inf),
+            float(res.states[:, 2].min()) if res.found else math.nan)
         return out, res
 
 

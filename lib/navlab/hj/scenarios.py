@@ -92,7 +92,7 @@ class ClosedLoop:
         return SimSettings(c.replan_hz, c.control_hz, self.robot.radius_m, h.radius_m, self.robot.v_max,
                            self.robot.accel_min, c.goal_tolerance_m, c.trip_timeout_s, c.deadlock_s,
                            c.deadlock_progress_m, pose_noise_m, c.human_noise_m, velocity_window_s=c.velocity_window_s,
-                           human_speed=h.speed)
+                           human_speed=h.speed, v_min=self.robot.v_min, a_max=self.robot.accel_max)
 
     def rules(self) -> str:
         """The loop's rules beyond the paper's text (hj.lattice_policy, sim.receding_horizon), for the reports."""

@@ -99,8 +99,9 @@ def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, 
     rows = _rows(results, seed)
     setup = (anytime_budget(dict(results), max_expansions) + " nodes = expansions to the first "
              "solution, cost = the final (best) solution's cost. *_common: over tasks both solved; *_all: over "
-             "each method's successes; 95% bootstrap CIs over tasks, Wilson for success. Our car cannot reverse "
-             "(v in [0, v_max], as the HJ grids), so re-orientation is by turning arcs. " + excess_note(excess))
+             "each method's successes; 95% bootstrap CIs over tasks, Wilson for success. Our car reverses as "
+             "the paper's does (v in [v_min, v_max] with v_min < 0, hj.grids.robot, in the lattice and the HJ grids). "
+             + excess_note(excess))
     return _search_table("table2_heuristics_anastar", rows, ana_rows(rows), setup,
                          hj_claims.search_claims("table2_heuristics_anastar", results, seed))
 

@@ -28,7 +28,7 @@ def expansion_inputs(planner, n_states: int, n_samples: int, seed: int) -> tuple
         x, y = rng.uniform(0, room.width), rng.uniform(0, room.height)
         if room.signed_distance(np.array([x]), np.array([y]), planner.robot.radius_m)[0] <= 0.2:
             continue
-        v = rng.integers(0, spec.speed_levels) * spec.dv
+        v = spec.speeds[rng.integers(0, spec.speed_levels)]
         segs.append(successor_samples(spec, table, np.array([x, y, v, rng.uniform(-math.pi, math.pi)])))
     segs = np.concatenate(segs)
     return np.ascontiguousarray(segs[:n_states, -1]), np.ascontiguousarray(segs[:n_samples // spec.samples_per_step])

@@ -54,7 +54,7 @@ def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str],
              "(shortest free path / v_max on a 0.1 m raster) and general Dist (straight line / v_max). The paper's "
              "rows are the seconds Sec. VI-A prints for its robot heading upward and reversed; its robot's position "
              "and speed are blank in its text, and our room, robot and goal are our own, so the seconds differ and "
-             "only the orderings compare. Our car cannot reverse (v in [0, v_max]).")
+             "only the orderings compare. Our car reverses, as the paper's (v_min < 0, hj.grids.robot).")
     return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows, paper, notes,
                  fig2_claims(rows, slack_s))
 

@@ -85,8 +85,10 @@ class Dynamics:
 class DubinsCar4D(Dynamics):
     """Paper Eq. (19): ẋ = v cos θ, ẏ = v sin θ, v̇ = a, θ̇ = ω; state (x, y, v, θ).
 
-    v ∈ [0, v_max] is kept by state-dependent acceleration bounds: at v ≤ 0 the car cannot brake further,
-    at v ≥ v_max it cannot speed up, so the speed axis of the grid is invariant.
+    v ∈ [v_min, v_max] is kept by state-dependent acceleration bounds: at v ≤ v_min the car cannot slow
+    down (or reverse) further, at v ≥ v_max it cannot speed up, so the speed axis of the grid is invariant.
+    v_min < 0: the car reverses, as the paper's does (Sec. VII-A: "a slight reversal followed by a precise
+    reorientation", Fig. 6); v_min = 0: the forward-only car.
     """
 
     v_max: float
@@ -94,17 +96,20 @@ class DubinsCar4D(Dynamics):
     a_max: float
     omega_max: float
     control_mode: Mode = "max"
+    v_min: float = 0.0  # reach.precompute passes hj.grids.robot.v_min
     state_names = ("x", "y", "v", "theta")
 
     def __post_init__(self):
         _check_mode("control_mode", self.control_mode)
-        _check_finite(self, self.v_max, self.a_min, self.a_max, self.omega_max)
-        if not (self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0):
-            raise ValueError(f"DubinsCar4D needs v_max > 0, a_min < 0 < a_max, omega_max > 0; got {self}")
+        _check_finite(self, self.v_min, self.v_max, self.a_min, self.a_max, self.omega_max)
+        if not (self.v_max > 0 and -self.v_max <= self.v_min <= 0 and self.a_min < 0 < self.a_max
+                and self.omega_max > 0):
+            raise ValueError(f"DubinsCar4D needs v_max > 0, -v_max <= v_min <= 0, a_min < 0 < a_max, "
+                             f"omega_max > 0; got {self}")
 
     def acceleration_bounds(self, v: torch.Tensor):
         tol = 1e-6 * self.v_max
-        lo = torch.where(v <= tol, torch.zeros_like(v), torch.full_like(v, self.a_min))
+        lo = torch.where(v <= self.v_min + tol, torch.zeros_like(v), torch.full_like(v, self.a_min))
         hi = torch.where(v >= self.v_max - tol, torch.zeros_like(v), torch.full_like(v, self.a_max))
         return lo, hi
 
@@ -157,21 +162,23 @@ class HumanRobotRelative(Dynamics):
     omega_max: float
     human_speed: float
     control_mode: Mode = "max"
+    v_min: float = 0.0  # the robot's speed range [v_min, v_max], as DubinsCar4D's
     state_names = ("px", "py", "v")
 
     def __post_init__(self):
         _check_mode("control_mode", self.control_mode)
-        _check_finite(self, self.v_max, self.a_min, self.a_max, self.omega_max, self.human_speed)
+        _check_finite(self, self.v_min, self.v_max, self.a_min, self.a_max, self.omega_max, self.human_speed)
         if not (
-            self.v_max > 0 and self.a_min < 0 < self.a_max and self.omega_max > 0 and self.human_speed >= 0
+            self.v_max > 0 and -self.v_max <= self.v_min <= 0 and self.a_min < 0 < self.a_max
+            and self.omega_max > 0 and self.human_speed >= 0
         ):
             raise ValueError(
-                f"HumanRobotRelative needs v_max > 0, a_min < 0 < a_max, omega_max > 0, "
+                f"HumanRobotRelative needs v_max > 0, -v_max <= v_min <= 0, a_min < 0 < a_max, omega_max > 0, "
                 f"human_speed >= 0; got {self}"
             )
 
     def _car(self) -> DubinsCar4D:
-        return DubinsCar4D(self.v_max, self.a_min, self.a_max, self.omega_max, self.control_mode)
+        return DubinsCar4D(self.v_max, self.a_min, self.a_max, self.omega_max, self.control_mode, self.v_min)
 
     def hamiltonian(self, state, grad):
         px, py, v = state
@@ -188,7 +195,7 @@ class HumanRobotRelative(Dynamics):
         px, py, v = state
         lo, hi = self._car().acceleration_bounds(v)
         return [
-            self.omega_max * py.abs() + v + self.human_speed,
+            self.omega_max * py.abs() + v.abs() + self.human_speed,
             self.omega_max * px.abs() + self.human_speed,
             torch.maximum(lo.abs(), hi.abs()),
         ]

@@ -13,8 +13,8 @@ per value function, by the lookups below, with a bound that is safe for the way 
   inside a wall and gets the grid's minimum value (the most unsafe value anywhere); speed clamps.
 - ``HumanBRTLookup``: the human is put in the robot's frame (``to_robot_frame``); outside the relative
   domain the value is the lower bound ``|p| - (r_robot + r_human) - (v_human + v_max) * T`` on the
-  clearance over the horizon, which the build guarantees is >= 0 there (the domain covers every
-  encounter that can close within the horizon).
+  clearance over the horizon (|v| <= v_max, a reversing robot's too), which the build guarantees is >= 0
+  there (the domain covers every encounter that can close within the horizon).
 """
 
 from __future__ import annotations

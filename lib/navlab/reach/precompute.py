@@ -78,7 +78,7 @@ def _car(params: Params):
     from navlab.reach.dynamics import DubinsCar4D
 
     r = params.hj.grids.robot
-    return DubinsCar4D(v_max=r.v_max, a_min=r.accel_min, a_max=r.accel_max, omega_max=r.omega_max)
+    return DubinsCar4D(v_max=r.v_max, a_min=r.accel_min, a_max=r.accel_max, omega_max=r.omega_max, v_min=r.v_min)
 
 
 def _relative(params: Params):
@@ -86,13 +86,13 @@ def _relative(params: Params):
 
     r = params.hj.grids.robot
     return HumanRobotRelative(v_max=r.v_max, a_min=r.accel_min, a_max=r.accel_max, omega_max=r.omega_max,
-                              human_speed=params.hj.grids.human.speed)
+                              human_speed=params.hj.grids.human.speed, v_min=r.v_min)
 
 
 def ttr_spec(params: Params) -> GridSpec:
     g = params.hj.grids
     half = g.ttr.half_extent_m
-    grid = Grid((-half, -half, 0.0, -math.pi), (half, half, g.robot.v_max, math.pi), g.ttr.shape,
+    grid = Grid((-half, -half, g.robot.v_min, -math.pi), (half, half, g.robot.v_max, math.pi), g.ttr.shape,
                 (False, False, False, True))
     inputs = {"code": solver_code(), "kind": "ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
@@ -107,9 +107,11 @@ def ttr_spec(params: Params) -> GridSpec:
     return GridSpec("ttr", grid, inputs, solve)
 
 
-def room_grid(room: Room, shape: tuple[int, ...], v_max: float) -> Grid:
+def room_grid(room: Room, shape: tuple[int, ...], speeds: tuple[float, float]) -> Grid:
+    """(x, y, v, θ) over the room, v over ``speeds`` (v_min, v_max): a reversing car's v_min < 0."""
     (x0, x1), (y0, y1) = room.bounds
-    return Grid((x0, y0, 0.0, -math.pi), (x1, y1, v_max, math.pi), shape, (False, False, False, True))
+    (v0, v1) = speeds
+    return Grid((x0, y0, v0, -math.pi), (x1, y1, v1, math.pi), shape, (False, False, False, True))
 
 
 def room_obstacle_distance(room: Room, grid: Grid) -> np.ndarray:
@@ -121,7 +123,7 @@ def room_obstacle_distance(room: Room, grid: Grid) -> np.ndarray:
 def static_brt_spec(params: Params, room_name: str) -> GridSpec:
     g = params.hj.grids
     room = load_room(room_name)
-    grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
+    grid = room_grid(room, g.static_brt.shape, (g.robot.v_min, g.robot.v_max))
     inputs = {"code": solver_code(), "kind": "static_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "static_brt": _asdict(g.static_brt),
               "room": json_ready(dataclasses.asdict(room))}
@@ -148,7 +150,7 @@ def human_brt_spec(params: Params) -> GridSpec:
     if h.half_extent_m < reach:
         raise ValueError(f"hj.grids.human_brt.half_extent_m = {h.half_extent_m}: must be >= {reach:.3f} m "
                          f"(radii + closing speed × horizon), so every encounter within the horizon is on the grid")
-    grid = Grid((-h.half_extent_m, -h.half_extent_m, 0.0), (h.half_extent_m, h.half_extent_m, g.robot.v_max),
+    grid = Grid((-h.half_extent_m, -h.half_extent_m, g.robot.v_min), (h.half_extent_m, h.half_extent_m, g.robot.v_max),
                 h.shape, (False, False, False))
     inputs = {"code": solver_code(), "kind": "human_brt", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
@@ -172,7 +174,7 @@ def map_ttr_spec(params: Params) -> GridSpec:
         raise ParamsError(f"hj.grids.map_ttr.goal_xy = {list(g.map_ttr.goal_xy)}: not in the free space of room "
                           f"{g.map_ttr.room!r} (x in ({x0}, {x1}), y in ({y0}, {y1}), outside walls and obstacles); "
                           "choose a goal inside the room in params.yaml")
-    grid = room_grid(room, g.static_brt.shape, g.robot.v_max)
+    grid = room_grid(room, g.static_brt.shape, (g.robot.v_min, g.robot.v_max))
     inputs = {"code": solver_code(), "kind": "map_ttr", "grid": grid_to_dict(grid), "robot": _asdict(g.robot),
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr), "map_ttr": _asdict(g.map_ttr),
               "room": json_ready(dataclasses.asdict(room))}

@@ -107,7 +107,7 @@ def general_ttr(
 ) -> torch.Tensor:
     """Goal-centred TTR of the 4D car in free space (paper Sec. VI-A): goal = disk of ``goal_radius``
     at the origin of the (x, y) axes; grid axes (x, y, v, θ)."""
-    _check_car_grid(grid, "general_ttr")
+    _check_car_grid(grid, car, "general_ttr")
     reach_car = dataclasses.replace(car, control_mode="min")
     target = disk_signed_distance(grid, goal_radius, backend.device, backend.dtype)
     return time_to_reach(
@@ -142,7 +142,7 @@ def map_ttr(
     The goal disk is widened to half a cell diagonal when smaller: a monotone scheme creates no new
     minima, so a goal that holds no grid node would never be reached.
     """
-    _check_car_grid(grid, "map_ttr")
+    _check_car_grid(grid, car, "map_ttr")
     radius = max(goal_radius, 0.5 * math.hypot(*grid.spacing[:2]))
     device, dtype = backend.device, backend.dtype
     target = disk_signed_distance(grid, radius, device, dtype, center=goal_xy)
@@ -205,7 +205,7 @@ def static_brt(
     nodes, indexed [i_x, i_y]; the failure set is {sdf < robot_radius}, broadcast over (v, θ).
     Returns the Solution: ``.values`` the BRT value, ``.converged`` False if ``max_horizon`` came first.
     """
-    _check_car_grid(grid, "static_brt")
+    _check_car_grid(grid, car, "static_brt")
     sdf = torch.as_tensor(sdf_values, dtype=backend.dtype).to(backend.device)
     if tuple(sdf.shape) != tuple(grid.shape[:2]):
         raise ValueError(
@@ -253,10 +253,10 @@ def human_brt(
     ).values
 
 
-def _check_car_grid(grid: Grid, who: str):
+def _check_car_grid(grid: Grid, car, who: str):
     if grid.ndim != 4 or grid.periodic != (False, False, False, True):
         raise ValueError(
             f"{who}: the grid must be (x, y, v, θ) with only θ periodic, got periodic={grid.periodic}"
         )
-    if grid.lo[2] < 0:
-        raise ValueError(f"{who}: the speed axis must start at v >= 0, got lo={grid.lo[2]}")
+    if grid.lo[2] < car.v_min - 1e-9:
+        raise ValueError(f"{who}: the speed axis must start at v >= the car's v_min = {car.v_min}, got lo={grid.lo[2]}")

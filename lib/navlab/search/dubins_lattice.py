@@ -3,10 +3,14 @@
 Why this shape: the paper searches over (acceleration, turn-rate) primitives held for a step ``dt``
 (its Table X: 0.5 s between neighbouring nodes) and counts 35 successors and 140 pruned states per
 expansion (Table VII): 5 accelerations × 7 turn rates, each checked at 4 points along its segment.
-Speeds are kept on levels ``k · v_max / (n - 1)``: every ``a · dt`` is a whole number of levels and v is
-clipped to [0, v_max] (the grids' speed axis), so a primitive's shape depends only on the speed level it
-starts from and on the control. ``primitive_table`` integrates it once per level in the body frame; an
-expansion then only rotates and translates a table row (no integration in the hot loop).
+Speeds are kept on ``n`` levels from ``v_min`` to ``v_max`` in steps of ``dv = (v_max − v_min) / (n − 1)``,
+0 among them: every ``a · dt`` is a whole number of levels and v is clipped to [v_min, v_max] (the grids'
+speed axis), so a primitive's shape depends only on the speed level it starts from and on the control.
+With ``v_min < 0`` the car reverses (x moves by v cos θ dt < 0 along its heading): the paper's Sec. VII-A
+reports Dist guiding the car into "persistent backward movements" and TTR's "slight reversal followed by
+a precise reorientation" (Fig. 6), which a forward-only car (``v_min = 0``, a labelled variant) cannot do.
+``primitive_table`` integrates each primitive once per level in the body frame; an expansion then only
+rotates and translates a table row (no integration in the hot loop).
 
 Nodes keep their continuous state and are identified by a snapped cell ``(⌊x/c⌋, ⌊y/c⌋, level,
 round(θ/bin))`` for duplicate detection, as Nav2's Smac hybrid A* does. With ``snap_states`` the node
@@ -42,10 +46,13 @@ class LatticeSpec:
     heading_bins: int
     snap_states: bool = False
     micro_steps: int = 8  # midpoint-rule sub-steps per sample when building the table (and the dense check's)
+    v_min: float = 0.0  # < 0: the car reverses; planning.lattice_spec passes hj.grids.robot.v_min
 
     def __post_init__(self):
         if self.dt <= 0 or self.v_max <= 0 or self.cell_m <= 0:
             raise ValueError(f"LatticeSpec: dt, v_max and cell_m must be > 0; got {self}")
+        if not -self.v_max <= self.v_min <= 0.0:
+            raise ValueError(f"LatticeSpec: v_min = {self.v_min} must lie in [-v_max, 0] (hj.grids.robot.v_min)")
         if self.speed_levels < 2 or self.heading_bins < 4 or self.samples_per_step < 1 or self.micro_steps < 1:
             raise ValueError("LatticeSpec: need speed_levels >= 2, heading_bins >= 4, samples_per_step >= 1, "
                              "micro_steps >= 1")
@@ -57,10 +64,29 @@ class LatticeSpec:
                 raise ValueError(f"LatticeSpec: acceleration {a} × dt {self.dt} = {a * self.dt:g} m/s is not a "
                                  f"whole number of speed levels ({self.dv:g} m/s); change accelerations, dt or "
                                  f"speed_levels in params.yaml (hj.planner.lattice)")
+        zero = -self.v_min / self.dv
+        if abs(zero - round(zero)) > 1e-6:
+            raise ValueError(f"LatticeSpec: 0 m/s is not a speed level ({self.speed_levels} levels from v_min = "
+                             f"{self.v_min:g} to v_max = {self.v_max:g}, {self.dv:g} m/s apart): a car at rest would "
+                             f"be off the lattice; change speed_levels (hj.planner.lattice) or hj.grids.robot.v_min")
 
     @property
     def dv(self) -> float:
-        return self.v_max / (self.speed_levels - 1)
+        return (self.v_max - self.v_min) / (self.speed_levels - 1)
+
+    @property
+    def zero_level(self) -> int:
+        """The index of the level 0 m/s: level k is the speed (k − zero_level) · dv."""
+        return round(-self.v_min / self.dv)
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """(levels,) the speed of every level, v_min first."""
+        return (np.arange(self.speed_levels) - self.zero_level) * self.dv
+
+    @property
+    def v_range(self) -> tuple[float, float]:
+        return self.v_min, self.v_max
 
     @property
     def n_primitives(self) -> int:
@@ -73,23 +99,26 @@ class LatticeSpec:
 
     def level(self, v: float) -> int:
         k = v / self.dv
-        if abs(k - round(k)) > 1e-6 or not 0 <= round(k) < self.speed_levels:
-            raise ValueError(f"speed {v} m/s is not a lattice speed level (multiples of {self.dv:g} up to "
-                             f"{self.v_max:g}); start from one of them (e.g. 0)")
-        return round(k)
+        if abs(k - round(k)) > 1e-6 or not 0 <= round(k) + self.zero_level < self.speed_levels:
+            raise ValueError(f"speed {v} m/s is not a lattice speed level (multiples of {self.dv:g} from "
+                             f"{self.v_min:g} to {self.v_max:g}); start from one of them (e.g. 0)")
+        return round(k) + self.zero_level
 
 
-def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int, v_max: float) -> np.ndarray:
+def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int,
+              v_range: tuple[float, float]) -> np.ndarray:
     """States after each of ``n`` equal sub-steps of holding (a, ω) from ``state`` (x, y, v, θ): (n, 4).
 
-    v moves linearly and is clipped to [0, v_max], θ moves linearly; the position uses the midpoint of
-    each sub-step (second order), the same rule the table is built with.
+    v moves linearly and is clipped to ``v_range`` (v_min, v_max), θ moves linearly; the position uses
+    the midpoint of each sub-step (second order), the same rule the table is built with (at v < 0 the car
+    moves backwards along its heading).
     """
     x, y, v, th = (float(s) for s in state)
+    v_min, v_max = v_range
     h = duration / n
     out = np.empty((n, 4))
     for i in range(n):
-        v1 = min(max(v + a * h, 0.0), v_max)
+        v1 = min(max(v + a * h, v_min), v_max)
         th1 = th + omega * h
         vm, tm = 0.5 * (v + v1), th + 0.5 * omega * h
         x += h * vm * math.cos(tm)
@@ -102,7 +131,7 @@ def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int
 def primitive_table(spec: LatticeSpec) -> np.ndarray:
     """(levels, P, samples, 4): body-frame (dx, dy, v, dθ) at each sample of every primitive per start level
     (``first_step`` from each level, where it adds nothing to the accelerations)."""
-    return np.stack([first_step(spec, k * spec.dv)[0] for k in range(spec.speed_levels)])
+    return np.stack([first_step(spec, v)[0] for v in spec.speeds])
 
 
 def first_step(spec: LatticeSpec, v: float) -> tuple[np.ndarray, np.ndarray]:
@@ -116,15 +145,15 @@ def first_step(spec: LatticeSpec, v: float) -> tuple[np.ndarray, np.ndarray]:
     so the step ends on the same level as from the level itself and the search checks exactly the
     trajectory the car will drive.
     """
-    if not 0.0 <= v <= spec.v_max + 1e-9:
-        raise ValueError(f"speed {v} m/s is outside the lattice's [0, {spec.v_max:g}] m/s")
-    level = min(round(v / spec.dv), spec.speed_levels - 1) * spec.dv
+    if not spec.v_min - 1e-9 <= v <= spec.v_max + 1e-9:
+        raise ValueError(f"speed {v} m/s is outside the lattice's [{spec.v_min:g}, {spec.v_max:g}] m/s")
+    level = spec.speeds[min(max(round(v / spec.dv) + spec.zero_level, 0), spec.speed_levels - 1)]
     s, m = spec.samples_per_step, spec.micro_steps
     controls = spec.controls.copy()
     controls[:, 0] += (level - v) / spec.dt
     rows = np.empty((len(controls), s, 4))
     for p, (a, w) in enumerate(controls):
-        rows[p] = integrate(np.array([0.0, 0.0, v, 0.0]), a, w, spec.dt, s * m, spec.v_max)[m - 1::m]
+        rows[p] = integrate(np.array([0.0, 0.0, v, 0.0]), a, w, spec.dt, s * m, spec.v_range)[m - 1::m]
     rows[:, -1, 2] = np.round(rows[:, -1, 2] / spec.dv) * spec.dv  # end speeds exactly on a level
     return rows, controls
 
@@ -150,7 +179,7 @@ def densify(spec: LatticeSpec, start: np.ndarray, controls: np.ndarray) -> np.nd
     points = [np.asarray(start, dtype=np.float64)[None]]
     state = np.asarray(start, dtype=np.float64)
     for a, w in np.asarray(controls, dtype=np.float64).reshape(-1, 2):
-        seg = integrate(state, a, w, spec.dt, n, spec.v_max)
+        seg = integrate(state, a, w, spec.dt, n, spec.v_range)
         points.append(seg)
         state = snap(spec, seg[-1]) if spec.snap_states else seg[-1]
     return np.concatenate(points)
@@ -161,7 +190,7 @@ def snap(spec: LatticeSpec, state: np.ndarray) -> np.ndarray:
     c, b = spec.cell_m, 2 * math.pi / spec.heading_bins
     x, y, v, th = state
     return np.array([(math.floor(x / c) + 0.5) * c, (math.floor(y / c) + 0.5) * c,
-                     round(v / spec.dv) * spec.dv, round(th / b) * b])
+                     spec.speeds[spec.level(round(v / spec.dv) * spec.dv)], round(th / b) * b])
 
 
 def successor_samples(spec: LatticeSpec, table: np.ndarray, state: np.ndarray) -> np.ndarray:

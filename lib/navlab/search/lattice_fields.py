@@ -296,17 +296,19 @@ def chord_clearance(da, db, c):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _interval_clear(q_prev, q, length, rho, a, b):
+def _interval_clear(q_prev, q, length, rho, a, b, cusp):
     """One interval between two samples ``a`` and ``b`` (x, y, θ), given the clearance lower bounds ``q``
     (minus the threshold) at its ends: clear by the 1-Lipschitz bound over any path of ``length``, or by
     ``chord_clearance`` less the path's offset from its chord. Within a primitive the turn rate is
     constant, so the path between two samples is convex with total turning ``turn``: it lies in the
     triangle of the chord and the end tangents, at most (c / 2) tan(turn / 2) from the chord (taken only
-    for turns < 1 rad). The chord and the turn are computed only where the Lipschitz bound does not decide."""
+    for turns < 1 rad). The chord and the turn are computed only where the Lipschitz bound does not decide.
+    A ``cusp`` (the speed changes sign: the car stops and drives back) leaves that triangle: the Lipschitz
+    bound alone decides."""
     if q_prev + q > length:
         return True
     turn = abs((b[2] - a[2] + math.pi) % (2.0 * math.pi) - math.pi)
-    if turn >= 1.0:
+    if cusp or turn >= 1.0:
         return False
     c = math.hypot(b[0] - a[0], b[1] - a[1])
     return chord_clearance(q_prev + rho, q + rho, c) - 0.5 * c * math.tan(0.5 * turn) > rho
@@ -322,7 +324,8 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
     required clearance ρ (robot radius, plus any pose allowance) plus ``par[2]``, a bound on the field's
     interpolation error (``hj.pruners.obs_pruner``), so q = value − threshold is a lower bound on the true
     distance minus ρ at each sample. Between two samples the path is kept clear when either (a) q_a + q_b
-    > L, L ≤ step · max(v_a, v_b) its arc length (the speed is monotone over a primitive): the true
+    > L, L ≤ step · max(|v_a|, |v_b|) its arc length (the speed is linear in time over a primitive, so
+    |v| is at most its larger end; a reversing car's v < 0 counts by its magnitude): the true
     distance d is 1-Lipschitz, so d(p) ≥ (d(a) + d(b) − L) / 2 on any path; or (b) the straight chord is
     ``chord_clearance`` from the obstacles and the path within its offset bound of the chord
     (``_interval_clear``). Each q is the cell's corner minimum (``cell_min``) when that already decides
@@ -334,22 +337,22 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
     for j in range(n):
         x, y, v, th = samples[i, j, 0], samples[i, j, 1], samples[i, j, 2], samples[i, j, 3]
         v_next = samples[i, j + 1, 2] if j + 1 < n else v
-        length = step * max(v_prev, v)
-        exact = True
+        length = step * max(abs(v_prev), abs(v))
+        exact, cusp = True, v_prev * v < 0.0
         if _outside_xy(m, x, y):
             q = par[1] - par[0]
         else:
             q = fmin[cell_index(m, x, y, 0.0, 0.0)] - par[0]
-            if q > 0.5 * step * max(v_prev, v, v_next):
+            if q > 0.5 * step * max(abs(v_prev), abs(v), abs(v_next)):
                 exact = False  # clears both its intervals: a lower bound is enough
             else:
                 q = interp2(fv, m, x, y) - par[0]
-        if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th)):
+        if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th), cusp):
             if not exact_prev:  # the bound was not enough after all: the interpolant decides
                 q_prev = obs_clearance(fv, m, par, px, py)
             if not exact:
                 q, exact = obs_clearance(fv, m, par, x, y), True
-            if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th)):
+            if not _interval_clear(q_prev, q, length, rho, (px, py, pth), (x, y, th), cusp):
                 return j
         q_prev, v_prev, exact_prev, px, py, pth = q, v, exact, x, y, th
     return -1

@@ -52,7 +52,7 @@ def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float,
         if -neg_g != g[c]:
             continue  # stale
         s = state[c]
-        if math.hypot(s[0] - goal_xy[0], s[1] - goal_xy[1]) <= tolerance and s[2] <= max_speed + 1e-9:
+        if math.hypot(s[0] - goal_xy[0], s[1] - goal_xy[1]) <= tolerance and abs(s[2]) <= max_speed + 1e-9:
             return g[c], expansions
         if expansions >= max_expansions:
             break

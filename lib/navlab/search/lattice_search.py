@@ -247,7 +247,7 @@ A_STAR = Budget()  # A* until the goal, at most 10^6 expansions
 class Goal:
     xy: tuple[float, float]
     tolerance: float  # m: reached when |p - goal| <= tolerance ...
-    max_speed: float  # ... and v <= max_speed (the paper's speed limit at the goal)
+    max_speed: float  # ... and |v| <= max_speed (the paper's speed limit at the goal; reversing too)
 
     def __post_init__(self):
         if len(self.xy) != 2 or not all(math.isfinite(c) for c in self.xy):
@@ -382,7 +382,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
     segment = np.empty((1, n_samp, 4))  # one segment, indexed as first_unsafe reads it
     samples = segment[0]
     bin_w = 2.0 * math.pi / nbins
-    v_top = goal[4]  # the lattice's v_max
+    dv, zero = goal[4], round(goal[5])  # the lattice's speed step and the index of its level 0 m/s
     step_t = dt / n_samp  # time between a segment's samples (the swept check's interval)
     t0 = _now() - reals[1]  # the time already spent counts: solution times are from the search's start
     hv, hm = field_meta(hf)
@@ -397,7 +397,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
         iy = math.floor(y / cell_m)
         if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
             return -1
-        lev = round(v / v_top * (nlev - 1))
+        lev = round(v / dv) + zero
         b = round(th / bin_w) % nbins
         return ((ix * ny + iy) * nlev + lev) * nbins + b
 
@@ -425,7 +425,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
         top = heap_c[0]
         if best[cell[top]] == top and not (anytime and heap_g[0] + hval[top] >= G):
             dx, dy = st[top, 0] - x_goal, st[top, 1] - y_goal
-            if not (dx * dx + dy * dy <= tol2 and st[top, 2] <= v_goal):
+            if not (dx * dx + dy * dy <= tol2 and abs(st[top, 2]) <= v_goal):
                 if expansions >= max_expansions:
                     status, stopped = (EXPANSION_LIMIT if goal_node < 0 else FOUND), True
                     break
@@ -439,7 +439,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             continue  # e <= 1: cannot improve on G
         sx, sy, sv_, sth = st[cur, 0], st[cur, 1], st[cur, 2], st[cur, 3]
         dx, dy = sx - x_goal, sy - y_goal
-        if dx * dx + dy * dy <= tol2 and sv_ <= v_goal:
+        if dx * dx + dy * dy <= tol2 and abs(sv_) <= v_goal:
             goal_node = cur
             if not anytime:
                 status = FOUND
@@ -467,7 +467,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             continue
         expansions += 1
         # the start's own first-step primitives (its exact speed, ``first_step``), the level's table after
-        rows = root if cur == 0 else table[round(sv_ / v_top * (nlev - 1))]
+        rows = root if cur == 0 else table[round(sv_ / dv) + zero]
         cth, sth_ = math.cos(sth), math.sin(sth)
         # the parent's clearance lower bounds, where an OBS check sweeps the path from it
         here = st[cur]  # the parent's state, from which the swept checks start
@@ -670,7 +670,7 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
         start = snap(spec, start)
     table = primitive_table(spec) if table is None else table
     root, root_controls = first_step(spec, float(start[2]))
-    goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.v_max])
+    goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.dv, spec.zero_level])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
     inputs = (start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
               (heuristic_.kind, heuristic_.field, heuristic_.par),

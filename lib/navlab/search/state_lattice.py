@@ -20,7 +20,10 @@ admissible heuristic returns Dijkstra's cost on it (up to floating-point roundin
   duration 2L / (v0 + v1). At rest (v0 = v1 = 0) a turn in place by one heading step at ω_max (θ̇ = ω
   needs no speed in the paper's model; the continuous lattice uses it too). They
   are solved for the start headings 0, 1, 2 (0°, 26.6°, 45°) and mapped to the other 13 by the grid's
-  symmetries (rotations by 90°, reflections), which map the heading set onto itself.
+  symmetries (rotations by 90°, reflections), which map the heading set onto itself. A car that reverses
+  (``Car.v_min < 0``; the paper's Sec. VII-A and Fig. 6 show reversals) also drives every forward
+  primitive backwards: speeds −v0 → −v1, both headings turned by 180° (the path is the one a car facing
+  the other way drives forwards), kept where its acceleration, the forward one's negated, is in bounds.
 - **Collision** (the paper's OBS test, conservative): a primitive's points, equally spaced in arc length
   (spacing <= ``sample_m``, start and end included), must each have interpolated clearance > robot
   radius + the raster's interpolation error bound + half the spacing. Every point of the path is within
@@ -30,7 +33,7 @@ admissible heuristic returns Dijkstra's cost on it (up to floating-point roundin
   inconsistent heuristic, such as an interpolated TTR grid, still returns the optimum) over lattice
   states with h given as a function of (N, 4) continuous states (x, y, v, θ) in seconds, evaluated once
   for every lattice state (and set to 0 on goal states); h = 0 is Dijkstra. The goal: a state within ``tolerance`` of the goal xy at a
-  speed <= ``max_speed``, tested when popped. ``Lattice.cost_to_go`` runs Dijkstra backwards from the
+  |speed| <= ``max_speed`` (reversing too), tested when popped. ``Lattice.cost_to_go`` runs Dijkstra backwards from the
   goal set over the whole lattice: the exact cost-to-go, against which a heuristic's admissibility is
   measured (``excess``).
 """
@@ -72,35 +75,44 @@ def heading_index(vector) -> int:
 
 @dataclass(frozen=True)
 class Car:
-    """The paper's 4D car (hj.grids.robot): ẋ = v cos θ, ẏ = v sin θ, θ̇ = ω, v̇ = a."""
+    """The paper's 4D car (hj.grids.robot): ẋ = v cos θ, ẏ = v sin θ, θ̇ = ω, v̇ = a, v ∈ [v_min, v_max]
+    (v_min < 0: it reverses; 0: forward only)."""
 
     v_max: float
     accel_min: float
     accel_max: float
     omega_max: float
+    v_min: float = 0.0
 
     @classmethod
     def from_params(cls, params) -> Car:
         r = params.hj.grids.robot
-        return cls(r.v_max, r.accel_min, r.accel_max, r.omega_max)
+        return cls(r.v_max, r.accel_min, r.accel_max, r.omega_max, r.v_min)
 
 
 @dataclass(frozen=True)
 class LatticeSettings:
-    """The lattice's resolution: cell size, speed levels (0 first, v_max last), how far a primitive may
-    turn (heading steps of 22.5° or 26.6°/18.4°) and reach (cells), and the collision sample spacing."""
+    """The lattice's resolution: cell size, speed levels (increasing, 0 among them; default every
+    0.25 m/s from the car's v_min to its v_max), how far a primitive may turn (heading steps of 22.5° or
+    26.6°/18.4°) and reach (cells), and the collision sample spacing. A negative level's magnitude must be
+    a level too: reverse primitives are the forward ones driven backwards."""
 
     car: Car
     cell_m: float = 0.1
-    speeds: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
+    speeds: tuple[float, ...] | None = None
     turn_steps: int = 2
     reach_cells: int = 16
     sample_m: float = 0.05
 
     def __post_init__(self):
+        if self.speeds is None:
+            levels = range(math.ceil(self.car.v_min / 0.25 - 1e-9), math.floor(self.car.v_max / 0.25 + 1e-9) + 1)
+            object.__setattr__(self, "speeds", tuple(0.25 * k for k in levels))
         v = np.asarray(self.speeds, float)
-        if v[0] != 0.0 or (np.diff(v) <= 0).any() or v[-1] > self.car.v_max:
-            raise ValueError(f"speeds {self.speeds}: increasing from 0 up to v_max = {self.car.v_max}")
+        if (0.0 not in v or (np.diff(v) <= 0).any() or v[0] < self.car.v_min or v[-1] > self.car.v_max
+                or not np.isin(-v[v < 0], v).all()):
+            raise ValueError(f"speeds {self.speeds}: increasing, 0 among them, within [v_min, v_max] = "
+                             f"[{self.car.v_min}, {self.car.v_max}], each negative one's magnitude a level too")
 
 
 class Primitives(NamedTuple):
@@ -115,8 +127,8 @@ class Primitives(NamedTuple):
     s1: np.ndarray
     di: np.ndarray
     dj: np.ndarray
-    geometry: np.ndarray  # (P, 5): theta0, straight1, radius, turn, straight2
-    speeds: np.ndarray  # (P, 2): v0, v1
+    geometry: np.ndarray  # (P, 5): theta0 (the direction of motion: reversing, k0's opposite), straight1, radius, turn, straight2
+    speeds: np.ndarray  # (P, 2): v0, v1 (both <= 0 reversing)
     cost: np.ndarray
     gap: np.ndarray  # half the arc length between consecutive samples
     start_off: np.ndarray
@@ -191,6 +203,7 @@ def _base_primitives(settings: LatticeSettings, k0: int, deltas) -> list[tuple]:
     """For start heading k0 and each Δ, v0, v1: the shortest feasible path (a lattice cell, see the
     module docstring) as (k1, s0, s1, di, dj, geometry row)."""
     car, v = settings.car, np.asarray(settings.speeds, float)
+    forward = np.flatnonzero(v >= 0.0)
     r = settings.reach_cells
     grid = np.stack(np.meshgrid(np.arange(-r, r + 1), np.arange(-r, r + 1), indexing="ij"), -1).reshape(-1, 2)
     out = []
@@ -198,8 +211,8 @@ def _base_primitives(settings: LatticeSettings, k0: int, deltas) -> list[tuple]:
         geometry, valid = _tangent_paths(k0, delta, grid, settings.cell_m)
         arc = geometry[:, 2] * np.abs(geometry[:, 3])
         length = np.where(valid, geometry[:, 1] + arc + geometry[:, 4], np.inf)
-        for s0, v0 in enumerate(v):
-            for s1, v1 in enumerate(v):
+        for s0, v0 in zip(forward, v[forward], strict=True):
+            for s1, v1 in zip(forward, v[forward], strict=True):
                 if v0 + v1 == 0.0:  # at rest: a turn in place by one heading step (θ̇ = ω needs no speed)
                     if abs(delta) == 1:
                         out.append(((k0 + delta) % K, s0, s1, 0, 0, np.array([ANGLES[k0], 0, 0, geometry[0, 3], 0])))
@@ -227,10 +240,29 @@ def _transform(prim: tuple, m: np.ndarray) -> tuple:
     return (k0m, k1m, s0, s1, *(m @ np.array([di, dj])), g)
 
 
+def _reversed(prims: list[tuple], settings: LatticeSettings) -> list[tuple]:
+    """The forward primitives (k0, k1, s0, s1, di, dj, geometry) driven backwards (see the module docstring):
+    headings turned by 180°, speeds negated, where both negated speeds are levels and the acceleration
+    (the forward one's, negated) lies within the car's bounds. The geometry stays the path's own (theta0:
+    the direction of motion); ``build_primitives`` turns the samples' headings."""
+    speeds, car = np.asarray(settings.speeds, float), settings.car
+    out = []
+    for k0, k1, s0, s1, di, dj, g in prims:
+        v0, v1 = speeds[s0], speeds[s1]
+        r0, r1 = np.flatnonzero(speeds == -v0), np.flatnonzero(speeds == -v1)
+        if v0 + v1 == 0.0 or not (len(r0) and len(r1)):
+            continue  # a turn in place is its own reverse
+        accel = (v1 ** 2 - v0 ** 2) / (2.0 * (g[1] + g[2] * abs(g[3]) + g[4]))
+        if car.accel_min - 1e-12 <= -accel <= car.accel_max + 1e-12:
+            out.append(((k0 + K // 2) % K, (k1 + K // 2) % K, r0[0], r1[0], di, dj, g))
+    return out
+
+
 def build_primitives(settings: LatticeSettings) -> Primitives:
     """The primitive table (see the module docstring): solved for ``BASE`` headings, the mirror image of
     a turn taken for headings 0 and 2 (so each of their sets is exactly symmetric), then mapped by D4 to
-    every heading; each is sampled for the collision check."""
+    every heading, and with a reversing car each driven backwards too (``_reversed``); each is sampled for
+    the collision check."""
     turns = settings.turn_steps
     base = {}
     for k0 in BASE:
@@ -243,6 +275,7 @@ def build_primitives(settings: LatticeSettings) -> Primitives:
     for k in range(K):
         m, b = next((m, b) for m in D4 for b in BASE if (m @ HEADINGS[b] == HEADINGS[k]).all())
         table += [_transform(p, m) for p in base[b]]
+    table += _reversed(table, settings)
     n_speeds = len(settings.speeds)
     table.sort(key=lambda p: (p[0] * n_speeds + p[2], p[1], p[3], p[4], p[5]))
     k0, k1, s0, s1, di, dj = (np.array([p[c] for p in table], np.int64) for c in range(6))
@@ -251,11 +284,14 @@ def build_primitives(settings: LatticeSettings) -> Primitives:
     length = geometry[:, 1] + geometry[:, 2] * np.abs(geometry[:, 3]) + geometry[:, 4]
     counts = np.where(length > 0, np.ceil(length / settings.sample_m - 1e-9), 4).astype(np.int64)
     spin = np.abs(geometry[:, 3]) / settings.car.omega_max
-    cost = np.where(length > 0, 2.0 * length / np.maximum(speeds.sum(axis=1), 1e-300), spin)
+    cost = np.where(length > 0, 2.0 * length / np.maximum(np.abs(speeds).sum(axis=1), 1e-300), spin)
     start_off = np.searchsorted(k0 * n_speeds + s0, np.arange(K * n_speeds + 1))
+    samples = sample_paths(geometry, np.abs(speeds), counts, settings.car.omega_max)
+    backwards = np.repeat(speeds.sum(axis=1) < 0.0, counts + 1)  # driven backwards: v < 0, facing the other way
+    samples[backwards, 2] *= -1.0
+    samples[backwards, 3] = wrap(samples[backwards, 3] + math.pi)
     return Primitives(k0, s0, k1, s1, di, dj, geometry, speeds, cost, 0.5 * length / counts,
-                      start_off.astype(np.int64), np.r_[0, np.cumsum(counts + 1)],
-                      sample_paths(geometry, speeds, counts, settings.car.omega_max))
+                      start_off.astype(np.int64), np.r_[0, np.cumsum(counts + 1)], samples)
 
 
 @dataclass(frozen=True)
@@ -417,7 +453,8 @@ class Lattice:
 
     def goal_mask(self, goal: Goal) -> np.ndarray:
         st = self.states
-        return (np.hypot(st[:, 0] - goal.xy[0], st[:, 1] - goal.xy[1]) <= goal.tolerance) & (st[:, 2] <= goal.max_speed)
+        return (np.hypot(st[:, 0] - goal.xy[0], st[:, 1] - goal.xy[1]) <= goal.tolerance) & (
+            np.abs(st[:, 2]) <= goal.max_speed)
 
     def clear(self, cells: np.ndarray, ids: np.ndarray) -> np.ndarray:
         """The search's collision test of primitive ids[n] from lattice cell cells[n] (i, j): True = kept."""

@@ -111,7 +111,7 @@ class PatrolHuman:
         velocity, arrived = _towards(self.position, np.asarray(self.pois[self.target], float), self.speed, dt)
         to_robot = robot_xy - self.position
         dist = float(np.hypot(*to_robot))
-        if robot_speed < STOPPED_SPEED and 0 < dist < self.avoid_radius and velocity @ to_robot > 0:
+        if abs(robot_speed) < STOPPED_SPEED and 0 < dist < self.avoid_radius and velocity @ to_robot > 0:
             # rule 2: walk around a stationary robot ahead: drop the heading's part towards it (never
             # closer), keep the tangential part; head-on, take the side the heading already leans to
             radial = to_robot / dist

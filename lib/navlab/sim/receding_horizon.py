@@ -84,6 +84,10 @@ class SimSettings:
     human_noise_m: float = 0.0  # std of each observed human position
     velocity_window_s: float = 0.5  # a human's velocity: its observed displacement over this long
     human_speed: float = 0.8  # m/s: a human moving 0.5 m further than this allows between observations is a new track
+    # the car's reverse speed limit (< 0: it reverses, paper Sec. VII-A; 0: forward only) and its acceleration
+    # bound, with which a reversing car brakes; hj.scenarios passes hj.grids.robot's v_min and accel_max
+    v_min: float = 0.0
+    a_max: float = 0.5
 
     def __post_init__(self):
         for name in ("replan_hz", "control_hz", "robot_radius", "v_max", "goal_tolerance", "trip_timeout_s",
@@ -95,8 +99,10 @@ class SimSettings:
             raise ValueError("SimSettings: velocity_window_s and human_speed must be > 0")
         if not (self.human_radius >= 0 and self.pose_noise_m >= 0 and self.human_noise_m >= 0):
             raise ValueError("SimSettings: human_radius and the noise levels must be >= 0")
-        if not self.a_min < 0:
-            raise ValueError(f"SimSettings.a_min must be < 0 (braking), got {self.a_min}")
+        if not self.a_min < 0 < self.a_max:
+            raise ValueError(f"SimSettings: need a_min < 0 < a_max (braking either way), got {self.a_min}, {self.a_max}")
+        if not -self.v_max <= self.v_min <= 0.0:
+            raise ValueError(f"SimSettings.v_min must lie in [-v_max, 0], got {self.v_min}")
 
 
 @dataclass
@@ -165,14 +171,20 @@ class HumanTracks:
 def _drive(state: np.ndarray, commands: np.ndarray, elapsed: float, tick: float, dt: float,
            settings: SimSettings) -> np.ndarray:
     """The car's state one control tick on: each command held for exactly its ``dt`` of the plan (a tick
-    that straddles a step boundary is split there, as the planner integrated it), braking (``a_min``,
-    ω = 0) once the plan has run out."""
+    that straddles a step boundary is split there, as the planner integrated it), its speed within
+    [v_min, v_max]; braking straight to rest once the plan has run out (``a_min`` going forwards, ``a_max``
+    reversing, ω = 0: the speed stops at 0, it does not drive on backwards)."""
     end = elapsed + tick
     while elapsed < end - 1e-12:
         k = int((elapsed + 1e-9) // dt)
-        a, omega = commands[k] if k < len(commands) else (settings.a_min, 0.0)
         h = min(end, (k + 1) * dt) - elapsed if k < len(commands) else end - elapsed
-        state = integrate(state, float(a), float(omega), h, max(1, round(4 * h / tick)), settings.v_max)[-1]
+        if k < len(commands):
+            (a, omega), speeds = commands[k], (settings.v_min, settings.v_max)
+        else:
+            forwards = state[2] >= 0.0
+            a, omega = (settings.a_min if forwards else settings.a_max), 0.0
+            speeds = (0.0, settings.v_max) if forwards else (settings.v_min, 0.0)
+        state = integrate(state, float(a), float(omega), h, max(1, round(4 * h / tick)), speeds)[-1]
         elapsed += h
     return state
 

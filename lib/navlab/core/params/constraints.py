@@ -53,4 +53,8 @@ def cross_section_problems(params: Params) -> list[str]:
     for key, value, of_key, of in batches:  # never happens as stated: the larger number is a typo
         if value > of:
             problems.append(f"{key} = {value} exceeds {of_key} = {of}, which it is drawn from; lower it")
+    robot = params.hj.grids.robot
+    if robot.v_min < -robot.v_max:  # search.dubins_lattice.LatticeSpec and reach.dynamics.DubinsCar4D refuse it
+        problems.append(f"hj.grids.robot.v_min = {robot.v_min:g} is below -v_max = {-robot.v_max:g}: the heuristics "
+                        f"and the human BRT's off-grid bound assume |v| <= v_max; raise v_min")
     return problems

@@ -15,9 +15,12 @@ from navlab.core.params.hj_dynamic import DynamicParams, SensitivityParams
 
 @section
 class RobotParams:
-    """4D Dubins car (x, y, v, θ), controls a ∈ [accel_min, accel_max], ω ∈ [-omega_max, omega_max]."""
+    """4D Dubins car (x, y, v, θ), v ∈ [v_min, v_max], controls a ∈ [accel_min, accel_max],
+    ω ∈ [-omega_max, omega_max]. v_min < 0: the car reverses (paper Sec. VII-A, Fig. 6); 0: forward only."""
 
     radius_m: Annotated[float, between(0.01, 2.0)]
+    # above -v_max (constraints.cross_section_problems): |v| <= v_max keeps Dist and the human BRT's bound valid
+    v_min: Annotated[float, between(-10.0, 0.0)]
     v_max: Annotated[float, between(0.01, 10.0)]
     # strictly signed: the lattice's speed changes divide by each (search.state_lattice), the grids need both
     accel_min: Annotated[float, between(-10.0, -0.01)]
@@ -95,7 +98,8 @@ class GridsParams:
 
 @section
 class LatticeParams:
-    """The Dubins lattice (search.dubins_lattice): every a·dt must be a whole number of speed levels."""
+    """The Dubins lattice (search.dubins_lattice): speed_levels from hj.grids.robot.v_min to v_max, 0 among
+    them, and every a·dt a whole number of levels."""
 
     dt_s: Annotated[float, between(0.05, 2.0)]
     accelerations: Annotated[tuple[float, ...], between(-10.0, 10.0)]

@@ -283,10 +283,10 @@ class HJPlayground:
         self._commit(dataclasses.replace(self._chosen(), humans=()))
 
     def set_speed(self, speed: float) -> None:
-        """The slices' speed (m/s; the BRTs grow with it): a lattice speed level."""
+        """The slices' speed (m/s; the BRTs grow with it): a lattice speed level, negative reversing."""
         dv = self.loop.spec.dv
-        if not (math.isfinite(speed) and 0 <= speed <= self.robot.v_max):
-            raise UserError(f"slice speed {speed}: choose 0 to {self.robot.v_max} m/s")
+        if not (math.isfinite(speed) and self.robot.v_min <= speed <= self.robot.v_max):
+            raise UserError(f"slice speed {speed}: choose {self.robot.v_min:g} to {self.robot.v_max:g} m/s")
         self.speed = round(speed / dv) * dv
 
     def set_option(self, name: str, value: str) -> None:
@@ -549,7 +549,8 @@ def with_human_discs(obs: StaticPruner, humans, radius: float) -> StaticPruner:
 
 def stopped_run(driven: np.ndarray, humans: list, start: np.ndarray, goal) -> Run:
     """A Run of what the loop drove before Stop, from the collision checks' positions: (t, x, y) per tick,
-    speed and heading from the displacement (the playback needs them; no plan is kept)."""
+    speed and heading from the displacement (the playback needs them; no plan is kept: a reversing stretch
+    plays back facing the way it moved)."""
     if len(driven) == 0:
         driven = np.array([[0.0, start[0], start[1]]])
     step = np.diff(driven[:, 1:], axis=0, prepend=start[None, :2])
@@ -673,8 +674,8 @@ class HJView(PlaygroundView):
         dv = p.loop.spec.dv
         self.heading = widgets.IntSlider(0, -180, 180, 15, description="robot θ°", continuous_update=False)
         self.human_heading = widgets.IntSlider(180, -180, 180, 15, description="human θ°", continuous_update=False)
-        self.speed = widgets.FloatSlider(p.speed, min=0.0, max=float(p.robot.v_max), step=dv, description="slice v",
-                                         continuous_update=False)
+        self.speed = widgets.FloatSlider(p.speed, min=float(p.robot.v_min), max=float(p.robot.v_max), step=dv,
+                                         description="slice v", continuous_update=False)
         self.options = {name: widgets.Dropdown(options=choices, description=label, layout=widgets.Layout(width="210px"))
                         for name, label, choices in (("heuristic", "heuristic", HEURISTICS), ("static", "static", STATIC),
                                                      ("human_mode", "humans", tuple(HUMAN_MODES)),
