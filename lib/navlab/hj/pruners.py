@@ -79,13 +79,18 @@ def field_error(field: GridField) -> float:
     return 0.5 * math.hypot(*(1.0 / np.asarray(field.inv_spacing))) + FLOAT32_SLACK_M
 
 
-def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
-    """The OBS pruner: value = interpolated clearance − (radius + ``field_error``), a lower bound on the true
-    clearance minus the radius (> 0 is collision-free)."""
+def _checked_clearance(room: Room, robot_radius: float, resolution: float) -> tuple[GridField, float]:
+    """The clearance raster and its interpolation error, after refusing a radius that would prune nothing."""
     if not (math.isfinite(robot_radius) and robot_radius >= 0):  # NaN: clearance - NaN <= 0 is never true
         raise ValueError(f"OBS robot_radius {robot_radius}: must be a finite number >= 0 (metres)")
     field = clearance_field(room, resolution)
-    error = field_error(field)
+    return field, field_error(field)
+
+
+def obs_pruner(room: Room, robot_radius: float, resolution: float = 0.02) -> StaticPruner:
+    """The OBS pruner: value = interpolated clearance − (radius + ``field_error``), a lower bound on the true
+    clearance minus the radius (> 0 is collision-free)."""
+    field, error = _checked_clearance(room, robot_radius, resolution)
     return StaticPruner(S_OBS, field, np.array([robot_radius + error, -1.0, error]), "OBS")
 
 
@@ -93,8 +98,8 @@ def obs_point_pruner(room: Room, robot_radius: float, resolution: float = 0.02) 
     """The paper's OBS pruner: the clearance at the segment's sample points must exceed the robot radius, as a
     costmap look-up checks it (no allowance for the raster's interpolation error, which ``obs_pruner`` adds
     so that its bound holds between samples)."""
-    swept = obs_pruner(room, robot_radius, resolution)
-    return StaticPruner(S_OBS_POINT, swept.field, np.array([robot_radius, *swept.par[1:]]), "OBS")
+    field, error = _checked_clearance(room, robot_radius, resolution)
+    return StaticPruner(S_OBS_POINT, field, np.array([robot_radius, -1.0, error]), "OBS")
 
 
 def static_brt_pruner(lookup: StaticBRTLookup, margin: float) -> StaticPruner:

@@ -116,20 +116,19 @@ class ClosedLoop:
                 f"observed speed exactly (the first step absorbs the gap to a lattice level) and the car executes "
                 f"their commands unmodified, so it drives the trajectory the pruners checked from the observed pose; "
                 f"under pose noise both static pruners prune {c.pose_allowance_sigmas:g} noise stds further out. "
-                f"{self._prediction_rule()}, and without a plan the car evades (the one step with the highest human BRT value) where braking straight would enter the "
-                f"human BRT (contacts then count as not on a plan).")
+                f"{self._prediction_rule()}, and without a plan the car evades (the one step with the highest human "
+                f"BRT value) where braking straight would enter the human BRT (contacts then count as not on a plan).")
 
     def _prediction_rule(self) -> str:
         c = self.d.closed_loop
-        ahead = [a for mode, a in self.rows.values() if a > 0]
         paper = ("FI-/FS-BRT check each node against the humans where they were last observed (prediction-free, the "
                  "paper's Sec. IV)" if c.human_prediction_s == 0 else
                  f"FI-/FS-BRT check each node against the humans where they walk by then at their observed velocity "
                  f"(held after {c.human_prediction_s:g} s; the paper's search is prediction-free)")
-        if not ahead or c.human_prediction_s > 0:
+        if not any(a == c.prediction_variant_s > 0 for _, a in self.rows.values()) or c.human_prediction_s > 0:
             return paper
         return (f"{paper}; the rows marked 'prediction, ours' check it against the humans where they walk by then at "
-                f"their observed velocity (over {c.velocity_window_s:g} s; held after {max(ahead):g} s)")
+                f"their observed velocity (over {c.velocity_window_s:g} s; held after {c.prediction_variant_s:g} s)")
 
     def _human_row(self, name: str, pose_noise_m: float = 0.0) -> tuple[str, float, float]:
         """A Table VI / IX row's ``policy`` arguments after the static pruner: human mode, pose noise, prediction
