@@ -476,7 +476,8 @@ def click_room(page: Page, x: float, y: float) -> str:
 def test_hj_playground_answers_clicks(browser, lab):
     """The HJ playground as a person uses it: Run All, then with the mode toggle click a new goal, a new start
     and a human on the room figure. Each click redraws the figure; no error output, no refusal in the
-    message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_hj.png)."""
+    message line. Screenshots after Run All and after the clicks (docs/notebooks.md shows one,
+    docs/playground_hj.png)."""
     url, token, _ = lab
     notebook, rel, shots = playground_paths("hj")
     seen: list[str] = []
@@ -557,7 +558,8 @@ def test_surenav_playground_answers_clicks(browser, lab, smoke_data, smoke_artif
     """The SuReNav playground as a person uses it: Run All, then real clicks on the map (ipympl canvas) and on
     the widgets: goal mode + a click on the map, start mode + a click, close mode + a click on a superpixel,
     then the Psi toggle. Each map click redraws a different result; no error output, no refusal in the
-    message line. Screenshots after Run All and after the clicks (the README shows one, docs/playground_surenav.png)."""
+    message line. Screenshots after Run All and after the clicks (docs/notebooks.md shows one,
+    docs/playground_surenav.png)."""
     url, token, _ = lab
     notebook, rel, shots = playground_paths("surenav")
     targets = surenav_targets("smoke", smoke_data, smoke_artifacts)

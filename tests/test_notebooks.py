@@ -31,7 +31,7 @@ def test_parameters_convention(notebook):
     assert len(tagged) == 1, f"{notebook}: tag exactly one cell 'parameters' (it has {len(tagged)})"
     i = tagged[0]
     how = (f"{notebook}: the cell tagged 'parameters' must read exactly\n{PARAMETERS_CELL}\nand the next cell "
-           f"must be a code cell reading exactly\n{RESOLVE_LINES}\n(navlab.pipeline.notebooks; see README, Notebooks)")
+           f"must be a code cell reading exactly\n{RESOLVE_LINES}\n(navlab.pipeline.notebooks; docs/notebooks.md)")
     source = cells[i].source.strip()
     assert source == PARAMETERS_CELL or (is_playground(notebook) and source.startswith(PARAMETERS_CELL + "\n")), how
     assert i + 1 < len(cells) and cells[i + 1].cell_type == "code", how

@@ -1,5 +1,5 @@
-"""PACER on photographs of your own (README, "PACER on terrains of your own"): terrains this repository has
-never seen, put in the checkout's terrain_photos/ and listed in params.yaml, run through the bank, the
+"""PACER on photographs of your own (docs/data.md, "PACER on terrains of your own"): terrains this repository
+has never seen, put in the checkout's terrain_photos/ and listed in params.yaml, run through the bank, the
 fingerprint trained models key on, the aerial maps and the navigation tables."""
 
 from __future__ import annotations
