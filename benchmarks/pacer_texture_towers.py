@@ -28,6 +28,11 @@ read-out's ceiling). Towers:
 * ``hypercolumn``: ``both`` whose features are every stage's output side by side (receptive fields 5, 13 and
   29 px), projected together: a 4-px sidewalk keeps features of its own beside the wide ones, which near a
   boundary mostly describe the neighbours;
+* ``pretrained``: ImageNet-trained EfficientNet-Lite0 (``pacer.pretrained``, frozen) in place of the tower: its
+  stride-4 and stride-8 features side by side (the latter upsampled), a trained 1 x 1 projection (issue 61);
+* ``pretrained-raw``: the same features with no training at all (the projection the identity);
+* ``pretrained-2x``: ``pretrained`` fed every image and patch upsampled twice (the BEV shows a photograph at a
+  half to a quarter of its pixels; ImageNet's textures were learnt at 224 px per object);
 * ``committed``: the committed phase-3 model's matcher as it is (no training here).
 
 Prints per tower and map group: pixel recognition over named cells (all, interior, boundary) and, per
@@ -72,6 +77,7 @@ from navlab.pacer.experiments import (
 from navlab.pacer.loss import matching_loss
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import context_limited_costs
+from navlab.pacer.pretrained import INPUT_MEAN, INPUT_STD, load_efficientnet_lite0
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import load_model
 
@@ -138,6 +144,36 @@ class HypercolumnMatcher(TextureMatcher):
             return colour
         grey = self.grey_project(self.stages(self.grey_features, x.mean(dim=1, keepdim=True) - 0.5))
         return torch.cat([colour, grey], dim=1)
+
+
+class PretrainedMatcher(TextureMatcher):
+    """The matcher with frozen ImageNet features (EfficientNet-Lite0's strides 4 and 8) and a trained 1 x 1
+    projection (identity at the start, so ``pretrained-raw`` is this untrained); ``upsample`` enlarges every
+    input first. The backbone stays in eval mode (its batch statistics are ImageNet's)."""
+
+    def __init__(self, upsample: int = 1):
+        super().__init__((8,))
+        self.backbone = load_efficientnet_lite0()
+        width = 24 + 40
+        self.project = nn.Conv2d(width, width, 1)
+        with torch.no_grad():
+            self.project.weight.copy_(torch.eye(width)[:, :, None, None])
+            self.project.bias.zero_()
+        self.upsample = upsample
+
+    def train(self, mode: bool = True):
+        super().train(mode)
+        self.backbone.eval()
+        return self
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        if self.upsample > 1:
+            x = F.interpolate(x, scale_factor=self.upsample, mode="bilinear", align_corners=False)
+        with torch.no_grad():
+            maps = self.backbone.features((x * 255.0 - INPUT_MEAN) / INPUT_STD)
+        fine = maps[4]
+        coarse = F.interpolate(maps[8], size=fine.shape[-2:], mode="bilinear", align_corners=False)
+        return self.project(torch.cat([fine, coarse], dim=1))
 
 
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
@@ -292,7 +328,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--towers", nargs="+", default=["committed", "pooled", "dilated"],
                         choices=["committed", "pooled", "dilated", "luminance", "both", "balanced", "supervised",
-                                 "hypercolumn"])
+                                 "hypercolumn", "pretrained", "pretrained-raw", "pretrained-2x"])
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--channels", type=int, nargs=3, default=(16, 32, 32), help="the trained towers' widths")
     parser.add_argument("--seed", type=int, default=0)
@@ -335,6 +371,8 @@ def main() -> None:
         if name == "committed":
             tower = load_model(args.artifacts_dir / "pacer" / "phase3" / "model.pt", "cpu").matcher
             losses = []
+        elif name == "pretrained-raw":
+            tower, losses = PretrainedMatcher(), []
         else:
             channels = tuple(args.channels)
             kinds = {"dilated": (TextureMatcher, False), "luminance": (LuminanceMatcher, False),  # (class, two towers)
@@ -343,6 +381,8 @@ def main() -> None:
             if name in kinds:
                 kind, two_towers = kinds[name]
                 tower = kind(channels, dilated=True, luminance=two_towers)
+            elif name.startswith("pretrained"):
+                tower = PretrainedMatcher(upsample=2 if name.endswith("2x") else 1)
             else:
                 tower = TextureMatcher(channels[:2])
             print(f"{name}: training {args.steps} steps", flush=True)
