@@ -30,6 +30,7 @@ RUNS = {
                            "--reports-dir", "{out}"],
     "pacer_target_layouts.py": ["--profile", "smoke", "--epochs", "1", "--street", "0", "--targets", "in_view",
                                 "--data", "{data}", "--artifacts", "{artifacts}", "--out", "{out}"],
+    "pacer_pretrained_cost.py": ["--profile", "smoke", "--batch", "2", "--repeats", "1", "--threads", "1"],
     "pacer_texture_towers.py": ["--profile", "smoke", "--towers", "committed", "pooled", "luminance", "both", "balanced",
                                 "supervised", "pretrained", "--steps", "2",
                                 "--hold-out", "box_tree", "roughcast", "stone_wall", "grey_tile", "--eval-every", "1",
