@@ -77,7 +77,7 @@ from navlab.pacer.experiments import (
 from navlab.pacer.loss import matching_loss
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import context_limited_costs
-from navlab.pacer.pretrained import INPUT_MEAN, INPUT_STD, load_efficientnet_lite0
+from navlab.pacer.pretrained import FEATURE_CHANNELS, INPUT_MEAN, INPUT_STD, load_efficientnet_lite0
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import load_model
 
@@ -154,7 +154,7 @@ class PretrainedMatcher(TextureMatcher):
     def __init__(self, upsample: int = 1):
         super().__init__((8,))
         self.backbone = load_efficientnet_lite0()
-        width = 24 + 40
+        width = FEATURE_CHANNELS[4] + FEATURE_CHANNELS[8]
         self.project = nn.Conv2d(width, width, 1)
         with torch.no_grad():
             self.project.weight.copy_(torch.eye(width)[:, :, None, None])
@@ -166,14 +166,17 @@ class PretrainedMatcher(TextureMatcher):
         self.backbone.eval()
         return self
 
-    def embed(self, x: torch.Tensor) -> torch.Tensor:
+    def backbone_features(self, x: torch.Tensor) -> torch.Tensor:
+        """The frozen part: stride-4 features beside the stride-8 ones upsampled to them, of images in [0, 1]."""
         if self.upsample > 1:
             x = F.interpolate(x, scale_factor=self.upsample, mode="bilinear", align_corners=False)
         with torch.no_grad():
             maps = self.backbone.features((x * 255.0 - INPUT_MEAN) / INPUT_STD)
-        fine = maps[4]
-        coarse = F.interpolate(maps[8], size=fine.shape[-2:], mode="bilinear", align_corners=False)
-        return self.project(torch.cat([fine, coarse], dim=1))
+        coarse = F.interpolate(maps[8], size=maps[4].shape[-2:], mode="bilinear", align_corners=False)
+        return torch.cat([maps[4], coarse], dim=1)
+
+    def embed(self, x: torch.Tensor) -> torch.Tensor:
+        return self.project(self.backbone_features(x))
 
 
 def pixel_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
