@@ -82,6 +82,32 @@ def test_truncated_terrain_photo_is_refused(tmp_path):
         _read_photo(str(path))
 
 
+def test_an_empty_terrain_photo_is_refused(tmp_path):
+    from navlab.pacer.terrain import _read_photo
+
+    path = tmp_path / "empty.jpg"
+    path.write_bytes(b"")
+    with pytest.raises(DataError, match=r"empty.jpg: not a readable image \(the file is empty\)"):
+        _read_photo(str(path))
+
+
+def test_a_jpeg_with_zeroed_bytes_is_refused_with_the_decoders_warning(tmp_path):
+    """A quarter of a JPEG's bytes zeroed, same size, end marker intact: libjpeg decodes it around the damage
+    and only warns on stderr; the bank refuses it, quoting the warning."""
+    import cv2
+    import skimage.data
+
+    from navlab.pacer.terrain import _read_photo
+
+    data = bytearray(cv2.imencode(".jpg", skimage.data.astronaut()[:, :, ::-1])[1].tobytes())
+    third, quarter = len(data) // 3, len(data) // 4
+    data[third:third + quarter] = bytes(quarter)
+    path = tmp_path / "zeroed.jpg"
+    path.write_bytes(bytes(data))
+    with pytest.raises(DataError, match=r"zeroed.jpg: not a readable image \(the decoder warns: Corrupt JPEG data"):
+        _read_photo(str(path))
+
+
 @pytest.mark.parametrize("suffix", [".jpg", ".png"])
 def test_terrain_photo_with_data_after_its_end_is_read(tmp_path, suffix):
     """Phones append a motion-photo video or maker data after a JPEG's end: a JPEG or PNG whose image is
@@ -255,6 +281,23 @@ def test_pacer_model_names_a_wrong_context(context_shape, message):
     model = build_model(load_params("smoke").pacer.model, context_pairs=3)
     with pytest.raises(ValueError, match=message):
         model(torch.zeros(1, 3, 32, 32), torch.zeros(context_shape))
+
+
+@pytest.mark.parametrize("image, context, message", [
+    ((2, 3, 32, 32), (1, 9, 16, 8), r"2 image\(s\) but 1 context\(s\): give one context per image"),
+    ((1, 3, 32, 32), (1, 9, 64, 32), r"trained on 8-px patches \(pacer.data.patch_size\)"),
+    ((1, 1, 32, 32), (1, 9, 16, 8), r"takes \(B, 3, H, W\) BEV images"),
+    ("nan", (1, 9, 16, 8), "the image holds NaN or infinite values"),
+])
+def test_pacer_model_refuses_inputs_it_was_not_built_for(image, context, message):
+    """A batch-1 context beside a batch-2 image (torch would broadcast it), a context cut at another patch size
+    than the model's, a grey image, a NaN image (a NaN costmap): each one ValueError before any layer runs."""
+    from navlab.pacer.model import build_model
+
+    model = build_model(load_params("smoke").pacer.model, context_pairs=3, patch_size=8).eval()
+    pixels = torch.full((1, 3, 32, 32), math.nan) if image == "nan" else torch.zeros(image)
+    with pytest.raises(ValueError, match=message):
+        model(pixels, torch.zeros(context))
 
 
 def test_failed_notebook_run_keeps_the_executed_notebook(tmp_path):

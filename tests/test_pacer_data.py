@@ -167,7 +167,7 @@ ENCODED_WIDTH = 192
 
 def _encoded_data_dir(tmp_path, params):
     """A data dir whose every photograph (192 px wide, the least the bank takes) stores its column index in the
-    red channel."""
+    red channel (and its own number in blue: the bank refuses one photograph in two classes)."""
     columns = np.arange(ENCODED_WIDTH, dtype=np.uint8)
     photo = np.zeros((64, ENCODED_WIDTH, 3), np.uint8)
     photo[:, :, 2] = columns[None, :]  # OpenCV writes BGR: channel 2 is red
@@ -175,6 +175,7 @@ def _encoded_data_dir(tmp_path, params):
     for group in ("seen", "unseen", "synthetic"):
         for sources in getattr(params.pacer.data, group).values():
             for source in sources:
+                photo[0, 0, 0] += 1
                 path = tmp_path / "raw" / "terrain" / source
                 path.parent.mkdir(parents=True, exist_ok=True)
                 assert cv2.imwrite(str(path.with_suffix(".png")), photo)

@@ -4,6 +4,8 @@ fingerprint trained models key on, the aerial maps and the navigation tables."""
 
 from __future__ import annotations
 
+import hashlib
+import re
 import shutil
 
 import cv2
@@ -11,11 +13,11 @@ import numpy as np
 import pytest
 
 from navlab.core.io import DataError
-from navlab.core.params import repo_root
+from navlab.core.params import ParamsError, repo_root
 from navlab.pacer.aerial import aerial_maps
 from navlab.pacer.artifacts import phase_inputs
 from navlab.pacer.experiments import navigation_rows, pacer_method, uniform_method, window_oracle_method
-from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photos_fingerprint
+from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photo_digests, photos_fingerprint
 from navlab.pacer.train import load_model
 from navlab.pipeline.profile_check import pacer_data_problems
 from pacer_support import with_pacer_data
@@ -88,12 +90,16 @@ def test_a_replaced_photograph_changes_what_models_key_on(own_params, smoke_data
     data = own_params.pacer.data
     before, inputs = photos_fingerprint(smoke_data, data), phase_inputs(own_params, smoke_data)["terrain"]
     assert inputs == before
+    recorded = photo_digests(smoke_data, data)  # what a phase writes beside its model, photograph by photograph
+    assert recorded[f"{OWN_PHOTOS}/planks.png"] == hashlib.sha256((tmp_path / OWN_PHOTOS / "planks.png").read_bytes()).hexdigest()
     old = load_terrain_bank(smoke_data, data)
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "unlisted.png"), _texture(0, 192, 9))  # not in params: not read
     assert photos_fingerprint(smoke_data, data) == before
     path = tmp_path / OWN_PHOTOS / "planks.png"
     cv2.imwrite(str(path), _texture(0, 192, 7))  # same name, new content
     assert photos_fingerprint(smoke_data, data) != before
+    changed = photo_digests(smoke_data, data)
+    assert [s for s in recorded if recorded[s] != changed[s]] == [f"{OWN_PHOTOS}/planks.png"]
     new = load_terrain_bank(smoke_data, data)
     planks = new.id_of("planks")
     assert not np.array_equal(new.image_parts[planks][0][0], old.image_parts[planks][0][0])  # read anew
@@ -128,6 +134,37 @@ def test_missing_mistyped_or_too_small_photographs_are_named(own_params, smoke_d
     cv2.imwrite(str(tmp_path / OWN_PHOTOS / "moss.png"), _texture(2, least, 2))
     assert bank_names(load_terrain_bank(smoke_data, data), "unseen") == list(NAMES)  # the least size is enough
     assert pacer_data_problems(own_params, []) == []
+
+
+def test_the_same_photograph_renamed_in_a_seen_and_an_unseen_class_is_refused(own_params, smoke_data, tmp_path):
+    """Held-out integrity by content: a copy of an unseen photograph under another name, added to a seen class,
+    is refused by `params check` and by the bank; so is a packaged seen photograph copied in as an unseen one."""
+    data = own_params.pacer.data
+    shutil.copy(tmp_path / OWN_PHOTOS / "planks.png", tmp_path / OWN_PHOTOS / "boards.png")
+    leaked = with_pacer_data(own_params, seen={**data.seen, "grass": (*data.seen["grass"], f"{OWN_PHOTOS}/boards.png")})
+    refusal = (r"pacer.data.unseen.planks: terrain_photos/planks.png holds the same photograph as one "
+               r"pacer.data.seen.grass lists")
+    assert [p for p in pacer_data_problems(leaked, []) if re.search(refusal, p)]
+    with pytest.raises(ParamsError, match=refusal):
+        load_terrain_bank(smoke_data, leaked.pacer.data)
+    packaged = data.seen["grass"][0]
+    shutil.copy(smoke_data / "raw" / "terrain" / packaged, tmp_path / OWN_PHOTOS / "moss.png")
+    with pytest.raises(ParamsError, match=r"pacer.data.unseen.moss: terrain_photos/moss.png holds the same "
+                                          r"photograph as one pacer.data.seen.grass lists"):
+        load_terrain_bank(smoke_data, data)
+
+
+def test_a_photograph_listed_twice_or_outside_the_checkout_is_refused(own_params, tmp_path):
+    data = own_params.pacer.data
+    twice = with_pacer_data(own_params, seen={**data.seen, "grass": (f"{OWN_PHOTOS}/planks.png",)})
+    assert pacer_data_problems(twice, []) == [(
+        "pacer.data.unseen.planks: 'terrain_photos/planks.png' is also listed by pacer.data.seen.grass; a photograph "
+        "belongs to one class: remove it from one of them")]
+    for source in (str(tmp_path / OWN_PHOTOS / "planks.png"), f"{OWN_PHOTOS}/../{OWN_PHOTOS}/planks.png"):
+        outside = with_pacer_data(own_params, unseen={**data.unseen, "planks": (source,)})
+        problems = pacer_data_problems(outside, [])
+        assert len(problems) == 1 and problems[0].startswith(f"pacer.data.unseen.planks: {source!r} points outside")
+        assert "copy it into terrain_photos/" in problems[0]
 
 
 def bank_names(bank, group: str) -> list[str]:

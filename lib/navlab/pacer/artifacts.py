@@ -1,8 +1,8 @@
 """Artefact builders of the pacer track (DVC stages ``pacer_*``): the three training phases and the baselines.
 
 Each writes one folder under ``artifacts/pacer/``: ``phase1``-``phase3`` (``model.pt``, ``checkpoint.pt``,
-``val_loss.tsv``, ``summary.json``), ``sterling`` (``encoder.pt``) and ``classifier`` (``classifier.pt``,
-``summary.json``).
+``val_loss.tsv``, ``summary.json``, ``photographs.json``: the sha256 of every photograph it read),
+``sterling`` (``encoder.pt``) and ``classifier`` (``classifier.pt``, ``summary.json``).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from navlab.pacer.baselines.semantic_classifier import save_classifier, train_cl
 from navlab.pacer.baselines.sterling import save_sterling, train_sterling
 from navlab.pacer.datasets import STREET_SPLIT, pacer_dataset
 from navlab.pacer.map_windows import map_windows
-from navlab.pacer.terrain import load_terrain_bank, photos_fingerprint
+from navlab.pacer.terrain import load_terrain_bank, photo_digests, photos_fingerprint
 from navlab.pacer.train import PHASE_DATASETS, PHASES, PhaseRun, Selection, resolve_device, train_phase
 
 
@@ -65,10 +65,12 @@ def _train(phase: str):
              for ds in (pacer_dataset(params, data_dir, n, "val", bank) for n in names)],
             phase_dir(artifacts_dir, phase),
             PhaseRun(phase, getattr(params.pacer.train.epochs, phase), params.pacer.seed, params.pacer.data.n_pairs,
-                     phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None),
+                     phase_dir(artifacts_dir, PHASES[previous]) / "model.pt" if previous >= 0 else None,
+                     params.pacer.data.patch_size),
             inputs=phase_inputs(params, data_dir),
             selection=Selection(selection_windows(params, data_dir, bank), params.pacer.evaluation.cost_scale),
         )
+        write_json(phase_dir(artifacts_dir, phase) / "photographs.json", photo_digests(data_dir, params.pacer.data))
     return step
 
 

@@ -268,10 +268,16 @@ class UpBlock(nn.Module):
 class PacerNet(nn.Module):
     """R̂(I, Ĥ): BEV image (B,3,H,W) and context (B,3n,2h,w) → cost logits (B,H,W)."""
 
-    def __init__(self, cfg: PacerModelParams, context_pairs: int = 3, colour_channels: int = 3):
+    def __init__(self, cfg: PacerModelParams, context_pairs: int = 3, colour_channels: int = 3,
+                 patch_size: int | None = None):
         super().__init__()
         self.cfg = cfg
         widths = tuple(cfg.image_channels)
+        if not widths:
+            raise ValueError("pacer.model.image_channels is empty: give the U-Net encoder at least one width, "
+                             "e.g. [16, 32, 64]")
+        self.colour_channels = colour_channels
+        self.patch_size = patch_size  # the context patches' side it was trained on (None: any square side)
         self.down = nn.ModuleList(conv_block(c, w) for c, w in zip((colour_channels, *widths[:-1]), widths))
         self.bottleneck = conv_block(widths[-1], cfg.bottleneck_channels)
         c_ctx = colour_channels * context_pairs
@@ -301,7 +307,8 @@ class PacerNet(nn.Module):
         return 2 ** len(self.down)
 
     def check_context(self, context: torch.Tensor) -> None:
-        """A context is (B, 3n, 2h, h): n pairs of square h×h patches stacked vertically (Sec. IV-A)."""
+        """A context is (B, 3n, 2h, h): n pairs of square h×h patches stacked vertically (Sec. IV-A), h the
+        patch side the model was trained on."""
         if context.ndim != 4 or context.shape[1] != self.context_channels:
             raise ValueError(f"context of shape {tuple(context.shape)}: this model takes (B, {self.context_channels}, "
                              f"2h, h), {self.context_pairs} preference pairs (pacer.data.n_pairs); build the context "
@@ -309,17 +316,38 @@ class PacerNet(nn.Module):
         if context.shape[2] != 2 * context.shape[3]:
             raise ValueError(f"context of shape {tuple(context.shape)}: each pair is two square patches stacked "
                              "(height = 2 x width = 2 x pacer.data.patch_size); check the patch size")
+        if self.patch_size is not None and context.shape[3] != self.patch_size:
+            raise ValueError(f"context of shape {tuple(context.shape)}: this model was trained on "
+                             f"{self.patch_size}-px patches (pacer.data.patch_size); cut the context's patches at "
+                             f"{self.patch_size} px, or train a model for {context.shape[3]}-px patches")
+
+    def check_inputs(self, image: torch.Tensor, context: torch.Tensor) -> None:
+        """One clear ValueError for inputs the model was not built for, before any layer runs: an image that is
+        not (B, 3, H, W) with H and W multiples of ``stride``, a context that ``check_context`` refuses, a
+        context batch other than the image's (torch would broadcast one context over every image silently),
+        and values that are not finite (a NaN image would give a NaN costmap)."""
+        if image.ndim != 4 or image.shape[1] != self.colour_channels:
+            raise ValueError(f"image of shape {tuple(image.shape)}: this model takes (B, {self.colour_channels}, H, W) "
+                             "BEV images")
+        h, w = image.shape[-2:]
+        if h % self.stride or w % self.stride:
+            raise ValueError(f"image size {h}x{w}: height and width must be multiples of {self.stride} "
+                             f"(2 ** len(pacer.model.image_channels)); change the BEV size in params.yaml")
+        self.check_context(context)
+        if context.shape[0] != image.shape[0]:
+            raise ValueError(f"{image.shape[0]} image(s) but {context.shape[0]} context(s): give one context per "
+                             "image (repeat a shared context with context.expand(len(image), -1, -1, -1))")
+        for name, x in (("image", image), ("context", context)):
+            if not x.is_meta and not torch.isfinite(x).all():  # meta: ``params check``'s shape-only dry run
+                raise ValueError(f"the {name} holds NaN or infinite values; check how it was loaded (pixels are "
+                                 "floats in [0, 1])")
 
     def forward(self, image: torch.Tensor, context: torch.Tensor) -> torch.Tensor:
         return self.scored(image, context)[0]
 
     def scored(self, image: torch.Tensor, context: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor | None]:
         """Cost logits (B, H, W) and the matcher's cosines (B, 2n, H/s, W/s; None without a matcher)."""
-        h, w = image.shape[-2:]
-        if h % self.stride or w % self.stride:
-            raise ValueError(f"image size {h}x{w}: height and width must be multiples of {self.stride} "
-                             f"(2 ** len(pacer.model.image_channels)); change the BEV size in params.yaml")
-        self.check_context(context)
+        self.check_inputs(image, context)
         z = self.context_encoder(context)
         skips, x = [], image
         for block in self.down:
@@ -360,9 +388,10 @@ class PacerNet(nn.Module):
         return torch.sigmoid(self(image, context))
 
 
-def build_model(cfg: PacerModelParams, *, context_pairs: int = 3, device: str | torch.device = "cpu") -> PacerNet:
+def build_model(cfg: PacerModelParams, *, context_pairs: int = 3, patch_size: int | None = None,
+                device: str | torch.device = "cpu") -> PacerNet:
     """A freshly initialised network on ``device`` (initialisation draws from torch's global seed)."""
-    return PacerNet(cfg, context_pairs=context_pairs).to(device)
+    return PacerNet(cfg, context_pairs=context_pairs, patch_size=patch_size).to(device)
 
 
 def count_parameters(model: nn.Module) -> int:

@@ -1,8 +1,9 @@
 """PACER's Tables I-V and the context-following table as report tables: rows, the paper's, notes, claims.
 
-The notebooks only run the models through the protocol and hand the results here; what the notes say
-and which of the paper's claims hold (``claims``) are decided in this module, as ``surenav.tables``
-does for SuReNav.
+The notebooks only run the models through the protocol and hand the results here, per map (Tables I-IV)
+and per test item (Table V); which of the paper's claims hold, and our own checks, are decided by
+``navlab.pacer.claims`` on those per-unit results, never on the rows' means. The notes carry the set-up and
+the differences from the paper only: the claims are the tables' typed ``claims``.
 """
 
 from __future__ import annotations
@@ -12,18 +13,24 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from navlab.core.params.pacer import PacerParams
-from navlab.metrics.tables import Claim, Table
+from navlab.core.seeding import rng
+from navlab.metrics.claims import Claim
+from navlab.metrics.intervals import bootstrap_mean_ci
+from navlab.metrics.tables import Table
 from navlab.pacer.claims import (
+    LIMITED,
+    ORACLE,
     PAPER,
-    TRAINING_BUDGET_MIN,
-    agreement_against_target,
+    PREFERENCES,
+    UNIFORM,
+    agreement_target,
     gap_closed,
     gap_fraction,
     margin_ranking_claims,
-    phase1_cannot_follow_inverted,
+    phase_seen_claims,
+    phase_unseen_claims,
     seen_claims,
-    sentence,
-    synthetic_generalises_best,
+    training_budget,
     unseen_claims,
 )
 from navlab.pacer.experiments import (
@@ -42,8 +49,6 @@ from navlab.pacer.recognition import (
     true_terrains_name,
 )
 
-UNIFORM, ORACLE, LIMITED = "Uniform costmap (chance)", "Window oracle (ceiling)", "Context-limited oracle"
-PREFERENCES = ("realistic", "inverted")
 MARGIN_COLUMNS = ["model", "test_real", "test_shuffled", "test_synthetic", "test_real_ci", "test_shuffled_ci",
                   "test_synthetic_ci"]
 
@@ -107,38 +112,44 @@ def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mappi
                        f"(epoch {classifier['best_epoch']}).")
     seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic")]
     unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic")]
-    notes1 = " ".join([setup + classifier_note + " " + _reference_note(pacer), *map(sentence, seen)])
-    notes2 = " ".join([setup, ("Classifier: null, a semantic classifier knows only the seen labels, so no preference "
-                               "over unseen terrain can be expressed to it (the paper omits it for the same reason)."),
-                       *map(sentence, unseen)])
+    notes1 = setup + classifier_note + " " + _reference_note(pacer)
+    notes2 = (f"{setup} Classifier: null, a semantic classifier knows only the seen labels, so no preference over "
+              "unseen terrain can be expressed to it (the paper omits it for the same reason).")
     return [Table("table1_seen", "PACER Table I", NAVIGATION_COLUMNS, results["seen"].rows, PAPER["table1_seen"],
                   notes1, seen),
             Table("table2_unseen", "PACER Table II", NAVIGATION_COLUMNS, results["unseen"].rows,
                   PAPER["table2_unseen"], notes2, unseen)]
 
 
+def _training_minutes(summaries: Mapping[str, dict]) -> dict[str, float]:
+    """Each phase's training wall time in minutes, from its ``summary.json`` (none before it was recorded)."""
+    return {name: s["train_seconds"] / 60 for name, s in summaries.items() if s.get("train_seconds") is not None}
+
+
 def _training_cost(summaries: Mapping[str, dict]) -> str:
-    """One sentence: each phase's wall time and the peak memory, from its ``summary.json`` (none before
-    these were recorded), against issue 24's budget."""
-    timed = {name: s for name, s in summaries.items() if s.get("train_seconds") is not None}
-    if not timed:
+    """One sentence: each phase's wall time, the threads and the peak memory."""
+    minutes = _training_minutes(summaries)
+    if not minutes:
         return ""
-    first = next(iter(timed.values()))
-    minutes = {name: s["train_seconds"] / 60 for name, s in timed.items()}
+    timed = [summaries[name] for name in minutes]
     return (f"Training cost of these models: {', '.join(f'{n} {m:.1f}' for n, m in minutes.items())} min wall "
-            f"({sum(minutes.values()):.1f} min for the phases; issue 24's budget: {TRAINING_BUDGET_MIN:g} min for the "
-            f"phases and both baselines on 2 cores), {first['threads']} torch thread(s) and {first['workers']} "
-            f"item-rendering worker(s), peak resident memory {max(s['peak_rss_mib'] for s in timed.values())} MiB. ")
+            f"({sum(minutes.values()):.1f} min for the phases), {timed[0]['threads']} torch thread(s) and "
+            f"{timed[0]['workers']} item-rendering worker(s), peak resident memory "
+            f"{max(s['peak_rss_mib'] for s in timed)} MiB. ")
 
 
-def _context_following_notes(pacer: PacerParams, agreement: Mapping[tuple, Agreement],
-                             summaries: Mapping[str, dict]) -> str:
-    """What the context-following table measures and how (issues 14, 24), with the phase-3 agreement
-    against its target."""
+def _phase3_training(summary: Mapping[str, object]) -> str:
+    """One sentence: how much training the phase-3 model had (its ``summary.json``): optimiser steps, whether
+    early stopping ended it, and its best validation loss beside the entropy floor."""
+    stop = "stopped early" if summary["stopped_early"] else "ran every epoch"
+    return (f"Phase 3 trained {summary['steps']} optimiser steps ({summary['epochs_run']} of {summary['max_epochs']} "
+            f"epochs, {stop}; best epoch {summary['best_epoch']}, validation loss {summary['best_val_loss']:.3f} "
+            f"beside the entropy floor {summary['entropy_floor']:.3f}). ")
+
+
+def _context_following_notes(pacer: PacerParams, summaries: Mapping[str, dict]) -> str:
+    """What the context-following table measures and how (issues 14, 24), and the training the models had."""
     d, e, t = pacer.data, pacer.evaluation, pacer.train
-    target = {(env, pref): (agreement["D_synthetic", env, pref, "superset"].fraction,
-                            agreement["D_synthetic", env, pref, "superset"].ci)
-              for env in ("seen", "unseen") for pref in PREFERENCES}
     return (f"{e.heldout_examples} held-out BEV test items per set; agreement counts context pairs with "
             "both terrains in view; intervals: bootstrap over items. in_view: the context's pairs are drawn from "
             f"the terrains in view; superset: from those plus {d.context_extra} others of the same group, every "
@@ -168,7 +179,7 @@ def _context_following_notes(pacer: PacerParams, agreement: Mapping[tuple, Agree
             "away from the mean predicted cost of each terrain its item orders against its own, on the right side "
             "(Eq. 3 alone hedges where recognition is uncertain, compressing the cost ratio the planner sees, and "
             "a path follows pixels, not terrain means; the hinge is flat for a pair whose order cannot be told). "
-            f"{agreement_against_target(target, summaries['D_synthetic'])}. {_training_cost(summaries)}"
+            f"{_phase3_training(summaries['D_synthetic'])}{_training_cost(summaries)}"
             f"Map windows: {e.heldout_examples} {d.image_size}-px windows per set of street maps of "
             "SuReNav's val split (training geography, never the test tiles the tables' maps are cut from), painted "
             f"and rendered as the aerial maps are, field of view applied, with the map's {d.n_pairs}-pair context; "
@@ -183,42 +194,53 @@ def _context_following_notes(pacer: PacerParams, agreement: Mapping[tuple, Agree
             + recognition_note(d))
 
 
+def margin_rows(errors: Mapping[str, Mapping[str, np.ndarray]], seed: int) -> list[dict]:
+    """Table V's rows from ``errors[model][test set]`` (``experiments.margin_ranking_errors``): each cell the
+    mean over items with a bootstrap 95% interval over items."""
+    rows = []
+    for model, by_set in errors.items():
+        row: dict = {"model": model}
+        for set_name, values in by_set.items():
+            row[f"test_{set_name}"] = float(np.mean(values))
+            row[f"test_{set_name}_ci"] = [round(v, 5) for v in bootstrap_mean_ci(np.asarray(values),
+                                                                                 rng(seed, "pacer.margin_ranking.ci"))]
+        rows.append(row)
+    return rows
+
+
 def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement: Mapping[tuple, Agreement],
-                 agreement_rows: Sequence[dict], margin_rows: Sequence[dict], summaries: Mapping[str, dict],
-                 pacer: PacerParams, profile: str) -> list[Table]:
+                 agreement_rows: Sequence[dict], margin_errors: Mapping[str, Mapping[str, np.ndarray]],
+                 summaries: Mapping[str, dict], pacer: PacerParams, profile: str) -> list[Table]:
     """Tables III (seen) and IV (unseen): each training phase's tier shares under both preferences; Table V:
     margin ranking error on each training set's test split; ``context_following``: held-out agreement and
     the map-window metrics. ``results`` by (environment, preference), ``agreement`` by (model, environment,
-    preference, context draw), ``summaries`` by model in phase order (each phase's ``summary.json``)."""
+    preference, context draw), ``margin_errors`` by model then test set (per item, ``experiments.margin_ranking_errors``),
+    ``summaries`` by model in phase order (each phase's ``summary.json``)."""
     setup = protocol_note(pacer.data, pacer.evaluation, profile)
-
-    def low(env: str, pref: str, model: str) -> np.ndarray:
-        return results[env, pref].shares[model][:, 0]
 
     def gaps(env: str) -> list[Claim]:
         return [_gap(results[env, pref].shares, model, env, pref,
                      diagnosis=_map_diagnosis(agreement_rows, model, env, pref) if model != LIMITED else "")
                 for pref in PREFERENCES for model in ("D_synthetic", LIMITED)]
 
-    inverted = agreement["D_real", "seen", "inverted", "superset"]
-    phase1 = phase1_cannot_follow_inverted((inverted.fraction, inverted.ci), low("seen", "inverted", "D_real"),
-                                           low("seen", "inverted", "D_synthetic"))
-    synthetic = synthetic_generalises_best({m: np.concatenate([low("unseen", p, m) for p in PREFERENCES])
-                                            for m in summaries})
+    shares = {env: {pref: results[env, pref].shares for pref in PREFERENCES} for env in ("seen", "unseen")}
     rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
-    seen, unseen = [phase1, *gaps("seen")], [synthetic, *gaps("unseen")]
-    margin = margin_ranking_claims(margin_rows)
-    notes3 = f"{setup} {_reference_note(pacer)} " + " ".join(map(sentence, seen))
-    notes4 = f"{setup} " + " ".join(map(sentence, unseen))
+    seen = [*phase_seen_claims(shares["seen"]), *gaps("seen")]
+    unseen = [*phase_unseen_claims(shares["seen"], shares["unseen"]), *gaps("unseen")]
     notes5 = (f"{pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
-              "points each (pairs of equal rank count any cost difference as error); intervals: bootstrap over items. "
-              + " ".join(map(sentence, margin)))
+              "points each, the same items and points for every model (pairs of equal rank count any cost difference "
+              "as error); intervals: bootstrap over items.")
+    superset = {(env, pref): (agreement["D_synthetic", env, pref, "superset"].fraction,
+                              agreement["D_synthetic", env, pref, "superset"].ci)
+                for env in ("seen", "unseen") for pref in PREFERENCES}
+    minutes = _training_minutes(summaries)
+    following = [agreement_target(superset), *([training_budget(minutes)] if minutes else [])]
     return [Table("table3_phases_seen", "PACER Table III", PHASE_COLUMNS, rows["seen"],
-                  PAPER["table3_phases_seen"], notes3, seen),
+                  PAPER["table3_phases_seen"], f"{setup} {_reference_note(pacer)}", seen),
             Table("table4_phases_unseen", "PACER Table IV", PHASE_COLUMNS, rows["unseen"],
-                  PAPER["table4_phases_unseen"], notes4, unseen),
-            Table("table5_margin_ranking", "PACER Table V", MARGIN_COLUMNS, list(margin_rows),
-                  PAPER["table5_margin_ranking"], notes5, margin),
+                  PAPER["table4_phases_unseen"], setup, unseen),
+            Table("table5_margin_ranking", "PACER Table V", MARGIN_COLUMNS, margin_rows(margin_errors, pacer.seed),
+                  PAPER["table5_margin_ranking"], notes5, margin_ranking_claims(margin_errors)),
             Table("context_following", "ours (issues 14, 24): held-out preference agreement and map-window metrics",
                   [*AGREEMENT_COLUMNS, *RECOGNITION_COLUMNS], list(agreement_rows), PAPER["context_following"],
-                  _context_following_notes(pacer, agreement, summaries))]
+                  _context_following_notes(pacer, summaries), following)]

@@ -29,6 +29,8 @@ from __future__ import annotations
 import hashlib
 import io
 import math
+import os
+import tempfile
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -40,7 +42,7 @@ import numpy as np
 from PIL import Image
 
 from navlab.core.fingerprint import source_fingerprint
-from navlab.core.io import DataError, require
+from navlab.core.io import DataError, require, sha256_file
 from navlab.core.params import ParamsError, repo_root
 from navlab.core.params.pacer import PacerDataParams
 
@@ -110,6 +112,7 @@ def load_terrain_bank(data_dir: str | Path, params: PacerDataParams) -> TerrainB
     """The bank for ``params`` (``params.pacer.data``), its photographs found by :func:`photo_path`."""
     check_terrain_params(params)
     require(data_dir, "raw", "terrain")
+    check_distinct_photos(data_dir, params)
     terrains = terrain_classes(params)
     parts = [[_split_photo(read_listed_photo(data_dir, t.params_key, source, params), params)
               for source in t.sources] for t in terrains]
@@ -129,8 +132,8 @@ def terrain_classes(params: PacerDataParams) -> tuple[Terrain, ...]:
 
 
 def listed_photos(params: PacerDataParams) -> Iterator[tuple[str, str]]:
-    """(params key, source) of every photograph a class lists, in bank order (a photograph two classes list
-    appears once per class): the one walk the bank, its fingerprint and ``params check`` share."""
+    """(params key, source) of every photograph a class lists, in bank order: the one walk the bank, its
+    fingerprint and ``params check`` share."""
     return ((t.params_key, source) for t in terrain_classes(params) for source in t.sources)
 
 
@@ -169,6 +172,12 @@ def photos_fingerprint(data_dir: str | Path, params: PacerDataParams) -> str:
     return source_fingerprint((source, photo_path(data_dir, source)) for source in sources)
 
 
+def photo_digests(data_dir: str | Path, params: PacerDataParams) -> dict[str, str]:
+    """{source: sha256 of its bytes} of every photograph the bank reads: what a trained phase records beside
+    its model (``photographs.json``), so a later change to a photograph of your own is seen by name."""
+    return {source: sha256_file(photo_path(data_dir, source)) for source in sorted({s for _, s in listed_photos(params)})}
+
+
 def is_own_photo(source: str) -> bool:
     """Whether ``source`` is a photograph of your own (in the checkout's ``terrain_photos/``, not data/)."""
     return Path(source).parts[:1] == (OWN_PHOTOS,)
@@ -179,6 +188,23 @@ def check_terrain_params(params: PacerDataParams) -> None:
     ordering, the [min, max] ranges, terrains per image), before any photograph is read."""
     _check_classes(params)
     _check_ranges(params)
+
+
+def check_distinct_photos(data_dir: str | Path, params: PacerDataParams) -> None:
+    """One ParamsError when one photograph, by content (a copy under another name counts), is listed by two
+    classes: the held-out groups of Tables II/IV would then hold a photograph PACER trained on, under a
+    second preference rank. Photographs not there yet are skipped (reading them says so)."""
+    owner: dict[str, str] = {}
+    for key, source in listed_photos(params):
+        path = photo_path(data_dir, source)
+        if not path.is_file():
+            continue
+        digest = sha256_file(path)
+        first = owner.setdefault(digest, key)
+        if first != key:
+            raise ParamsError(f"{key}: {source} holds the same photograph as one {first} lists; a photograph "
+                              "belongs to one class (a held-out class must hold photographs no seen class has): "
+                              "remove it from one of them")
 
 
 def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
@@ -194,12 +220,25 @@ def _existing_photo(data_dir: str | Path, key: str, source: str) -> Path:
 
 
 def _check_classes(params: PacerDataParams) -> None:
-    """One clear ParamsError when a class lists no photograph, or the class lists and the ordering
-    disagree."""
+    """One clear ParamsError when a class lists no photograph, a photograph outside the checkout's folders
+    (an absolute path or one through ``..``), a photograph another class lists too, or the class lists and
+    the ordering disagree."""
     classes = terrain_classes(params)
     empty = [t.params_key for t in classes if not t.sources]
     if empty:
         raise ParamsError(f"{', '.join(empty)}: no photographs; list at least one photograph for each class")
+    for t in classes:
+        outside = [source for source in t.sources if Path(source).is_absolute() or ".." in Path(source).parts]
+        if outside:
+            raise ParamsError(f"{t.params_key}: {outside[0]!r} points outside the checkout's photographs, which no "
+                              f"run records; copy it into {OWN_PHOTOS}/ and list it as {OWN_PHOTOS}/<file>")
+    listers: dict[str, str] = {}
+    for t in classes:
+        for source in t.sources:
+            first = listers.setdefault(source, t.params_key)
+            if first != t.params_key:
+                raise ParamsError(f"{t.params_key}: {source!r} is also listed by {first}; a photograph belongs to "
+                                  "one class: remove it from one of them")
     names = [t.name for t in classes]
     duplicated = sorted({n for n in names if names.count(n) > 1})
     if duplicated:
@@ -248,14 +287,33 @@ def _read_photo(path: str) -> np.ndarray:
 
 
 def _decode(path: str, data: bytes) -> np.ndarray:
-    problem = _incomplete_image(data)
-    bgr = None if problem else cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    problem = "the file is empty" if not data else _incomplete_image(data)
+    bgr, warned = (None, "") if problem else _with_c_stderr(
+        lambda: cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR))
+    if bgr is not None and warned:  # libjpeg/libpng decoded around damaged data: grey or shifted blocks
+        bgr, problem = None, f"the decoder warns: {' / '.join(warned.splitlines())[:200]}"
     if bgr is None:
         raise DataError(f"{path}: not a readable image ({problem or 'OpenCV cannot decode it'}); replace it (a "
                         "packaged photograph: `python -m navlab data build --force`)")
     rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB).astype(np.float32) / 255.0
     rgb.setflags(write=False)
     return rgb
+
+
+def _with_c_stderr(decode):
+    """(``decode()``, what C libraries wrote to stderr meanwhile): libjpeg and libpng report damaged data
+    (zeroed or corrupt blocks, with the end marker intact) only as warnings on file descriptor 2, never to
+    OpenCV's caller, and decode the damage as grey or shifted blocks."""
+    with tempfile.TemporaryFile() as captured:
+        saved = os.dup(2)
+        os.dup2(captured.fileno(), 2)
+        try:
+            result = decode()
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        captured.seek(0)
+        return result, captured.read().decode(errors="replace").strip()
 
 
 def _incomplete_image(data: bytes) -> str | None:

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 import torch
 from torch.utils.data import DataLoader, Dataset
+from tqdm.auto import tqdm
 
 from navlab.core.fingerprint import code_fingerprint
 from navlab.core.io import sha256_file, sha256_json, write_json, write_text
@@ -167,7 +168,8 @@ def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet
     # before ``match_luminance`` a colour tower alone
     old = {"match_channels": (), "match_dilated": False, "match_luminance": False}
     return load_network(path, lambda saved: build_model(PacerModelParams(**{**old, **saved["model_config"]}),
-                                                        context_pairs=saved["context_pairs"]),
+                                                        context_pairs=saved["context_pairs"],
+                                                        patch_size=saved.get("patch_size")),
                         f"pacer_{path.parent.name}", device)
 
 
@@ -219,13 +221,14 @@ def improves(select_on: str, row: dict, best: dict) -> bool:
 class PhaseRun:
     """Which phase ``train_phase`` trains: its name (it keys the epoch draws and the checkpoint), the most
     epochs, the seed (of phase 1's initialisation and of every draw), the context's pair count and the
-    weights it starts from (the previous phase's ``model.pt``; None: fresh)."""
+    weights it starts from (the previous phase's ``model.pt``; None: fresh), and the patch side."""
 
     phase: str
     epochs: int
     seed: int
     context_pairs: int = 3
     init_from: str | Path | None = None
+    patch_size: int | None = None  # the context patches' side (the model refuses any other)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -284,10 +287,12 @@ def train_phase(
     steps_per_epoch = -(-train_cfg.examples_per_epoch // train_cfg.batch_size)
 
     # the validation items are the same every epoch (no ``set_epoch``): render them once, not per epoch
-    val_items = [[ds[i] for i in range(len(ds))] for ds in val_sets]
+    val_items = [[ds[i] for i in tqdm(range(len(ds)), desc=f"PACER {phase}: rendering validation items",
+                                      leave=False, disable=not progress)] for ds in val_sets]
 
     torch.manual_seed(seed)  # layer initialisation of phase 1
-    model = build_model(model_cfg, context_pairs=context_pairs, device=device).to(memory_format=torch.channels_last)
+    model = build_model(model_cfg, context_pairs=context_pairs, patch_size=run.patch_size,
+                        device=device).to(memory_format=torch.channels_last)
     if initial is not None:  # a resumed checkpoint replaces these weights
         model.load_state_dict(initial.state_dict())
     optimiser = torch.optim.Adam(model.parameters(), lr=train_cfg.lr)
@@ -302,7 +307,9 @@ def train_phase(
                 ds.set_epoch(epoch)
         draws = epoch_draws(sizes, train_cfg.examples_per_epoch, seed, phase, epoch)
         losses = []
-        for batch in epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers):
+        for batch in tqdm(epoch_batches(train_sets, draws, train_cfg.batch_size, train_cfg.workers),
+                          desc=f"PACER {phase} epoch {epoch + 1}", total=steps_per_epoch, unit="step", leave=False,
+                          disable=not progress):
             loss = batch_loss(model, batch, device, extra)
             descend(loss, optimiser, schedule)
             losses.append(loss.item())
@@ -328,6 +335,7 @@ def train_phase(
     })
     model_path = out_dir / "model.pt"
     save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
+                            "patch_size": run.patch_size,
                             "weights": {k: v.contiguous() for k, v in model.state_dict().items()}, "phase": phase, "epochs": len(rows),
                             "best_epoch": fitted.best_epoch})
     return model_path

@@ -49,10 +49,11 @@ def budget_gib(params: Params, device: str) -> float:
 
 def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
     """The checks load_terrain_bank runs on pacer.data before any stage renders (class lists, ordering,
-    [min, max] ranges, terrains per image) and on the photographs of your own it lists (there, readable,
-    large enough for this profile), without data/; the render sizes as a note."""
+    [min, max] ranges, terrains per image, no photograph in two classes by content) and on the photographs
+    of your own it lists (there, readable, large enough for this profile), without data/; the render sizes
+    as a note."""
     from navlab.core.io import DataError
-    from navlab.core.params import ParamsError
+    from navlab.core.params import ParamsError, repo_root
     from navlab.pacer import terrain
 
     d = params.pacer.data
@@ -61,6 +62,7 @@ def pacer_data_problems(params: Params, notes: list[str]) -> list[str]:
                  f"patches {d.patch_size} / baselines {params.pacer.baselines.patch_size} px")
     try:
         terrain.check_terrain_params(d)
+        terrain.check_distinct_photos(repo_root() / "data", d)  # the packaged ones where data/ is built
     except ParamsError as err:
         return [str(err)]
     problems = []

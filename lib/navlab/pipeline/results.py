@@ -87,19 +87,12 @@ SHOWN = {
 
 def claims_of(report: dict[str, Any]) -> list[Claim]:
     """The claims a report decided under the strict rules: its typed ``claims`` records (the paper's and
-    ours), as written. A record without ``source`` predates them (see :func:`earlier_checks`)."""
-    return [Claim.from_dict(c) for c in report.get("claims") or [] if "source" in c]
+    ours), as written."""
+    return [Claim.from_dict(c) for c in report.get("claims") or []]
 
 
-def earlier_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
-    """Claim records written before the strict rules (no ``source``: ties and ``>=`` counted as holding, the
-    paper's claims and our checks mixed), shown apart and never tallied until the track's stages re-run."""
-    return [c for c in report.get("claims") or [] if "source" not in c]
-
-
-# The tracks whose claims registry has landed (each module holds CLAIMS). PACER's is written (commits a5e9ee9
-# and 04204d3) and joins when its stages re-run under it.
-CLAIM_MODULES = {"surenav": "navlab.surenav.claims", "hj": "navlab.hj.claims"}
+# Each paper's claims registry (each module holds CLAIMS).
+CLAIM_MODULES = {"surenav": "navlab.surenav.claims", "hj": "navlab.hj.claims", "pacer": "navlab.pacer.claims"}
 
 
 def registries() -> dict[str, dict[str, PaperClaim]]:
@@ -244,17 +237,6 @@ def _checks_table(checks: list[tuple[str, Claim]]) -> list[str]:
                            [(table, c.claim, c.ours, _verdict(c), c.why) for table, c in checks])
 
 
-EARLIER = ("{name}'s claims registry and strict verdicts (issue 58) land with the re-run of its stages; until then "
-           "its reports carry the checks written before them, which count a tie or a `>=` as holding and mix the "
-           "paper's claims with our own diagnostics. They are listed here as written and tallied nowhere.")
-
-
-def _earlier_table(track: str, reports: list[tuple[str, dict[str, Any]]]) -> list[str]:
-    return _markdown_table(("table", "earlier check", "ours", "verdict then", "why"),
-                           [(_link(track, table_id), c["claim"], str(c.get("ours") or ""), c["verdict"],
-                             c.get("why") or "") for table_id, report in reports for c in earlier_checks(report)])
-
-
 def _anchor(heading: str) -> str:
     """GitHub's anchor for a Markdown heading."""
     return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
@@ -307,10 +289,7 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: di
         parts += [f"![{caption}]({path})\n\n*{caption}*\n" for path, caption in figures.get(track, [])]
         for table_id, report in reports:
             parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
-        if paper and track not in claim_registries:
-            parts += [f"### {paper.name} claims", "", EARLIER.format(name=paper.name), "",
-                      *_earlier_table(track, reports), ""]
-        elif paper:
+        if paper:
             claims = paper_claims(track, reports, claim_registries[track])
             checks = our_checks(track, reports)
             parts += [f"### {paper.name} claims", "",
@@ -357,11 +336,6 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures:
                              f"{ours} | {printed} |")
         listed = list(reports.items())
         link = f"{page}#{_anchor(paper.name + ' claims')}"
-        if track not in claim_registries:
-            earlier = sum(len(earlier_checks(r)) for r in reports.values())
-            parts += ["", (f"Claims: not yet decided under the strict rules; {earlier} earlier checks, which count ties "
-                      f"as holding and mix the paper's claims with ours, are listed untallied ([the list]({link}))."), ""]
-            continue
         claims = [c for _, c in paper_claims(track, listed, claim_registries[track])]
         checks = tally([c for _, c in our_checks(track, listed)])
         parts += ["", (f"{tally_line(claims)} ([each quoted, with its numbers and reason]({link})); our own checks, "

@@ -24,14 +24,17 @@ def show_image(ax, image, title: str = "") -> None:
     ax.axis("off")
 
 
-def show_costmap(ax, costmap, title: str = "", paths: Sequence[tuple[np.ndarray, str]] = ()) -> None:
-    """Costs in [0, 1], black = low (as in Fig. 1), with optional (cells, colour) paths on top."""
-    ax.imshow(np.asarray(costmap), cmap="gray", vmin=0.0, vmax=1.0)
+def show_costmap(ax, costmap, title: str = "", paths: Sequence[tuple[np.ndarray, str]] = ()):
+    """Costs in [0, 1], black = low (as in Fig. 1), with optional (cells, colour) paths on top; framed, so a
+    flat all-high costmap reads as a white map, not as a blank panel. Returns the image (for a colour bar)."""
+    image = ax.imshow(np.asarray(costmap), cmap="gray", vmin=0.0, vmax=1.0)
     for cells, colour in paths:
         if cells is not None:
             ax.plot(cells[:, 1], cells[:, 0], color=colour, linewidth=1.5)
     ax.set_title(title, fontsize=9)
-    ax.axis("off")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    return image
 
 
 def show_paths(ax, image, paths: Sequence[tuple[np.ndarray, str, str]], start=None, goal=None, title: str = "") -> None:
