@@ -9,6 +9,7 @@
   Each method receives the preference in its own form (Sec. VI): PACER and STERLING a preference
   context of terrain patches, the classifier a label → cost table, ground truth the ordering itself.
 - Margin ranking error (Table V) and the held-out preference agreement on BEV test items.
+- The figures' runs (Figs. 1, 3, 4, 5): one map or BEV item costed under several contexts.
 """
 
 from __future__ import annotations
@@ -51,6 +52,9 @@ from navlab.pacer.preferences import (
 from navlab.pacer.terrain import TerrainBank
 
 Preference = Literal["realistic", "inverted"]
+# Figs. 1/4 (a seen map) and Fig. 5 (an unseen map, "several paths ... and their corresponding preference
+# contexts"): the realistic ordering, its inversion, and two random orderings of the map's terrains.
+FIGURE_PREFERENCES: tuple[str, ...] = ("realistic", "inverted", "random", "random")
 # The context a method is given (``map_context``): True informative, "chain", False uninformative.
 ContextKind = bool | Literal["chain"]
 # A method: (map, ordering of its terrains, context, the context's (preferred, other) terrain pairs) ->
@@ -68,6 +72,44 @@ class NavigationResult:
     rows: list[dict]
     shares: dict[str, np.ndarray | None]
     paths: dict[str, list[np.ndarray]]
+
+
+@dataclass(frozen=True)
+class ContextRun:
+    """One preference on one map: its context, the method's costmap and the A* path it plans (None where
+    the goal cannot be reached)."""
+
+    preference: str
+    context: np.ndarray
+    cost: np.ndarray
+    path: np.ndarray | None
+
+
+def context_runs(method: Method, amap: AerialMap, bank: TerrainBank, data: PacerDataParams,
+                 preferences: Sequence[str], seed: int, cost_scale: float) -> list[ContextRun]:
+    """The map costed and crossed (its own start to goal) under each preference's informative context, the
+    k-th drawn as ``map_context(..., index=k)`` (so two "random" entries are two orderings)."""
+    runs = []
+    for k, preference in enumerate(preferences):
+        ordering, context, pairs = map_context(bank, data, amap, preference, True, seed, k)
+        cost = method(amap, ordering, context, pairs)
+        runs.append(ContextRun(preference, context, cost,
+                               plan_on_costmap(cost, amap.start, amap.goal, cost_scale).cells))
+    return runs
+
+
+def bev_context_costmaps(model: torch.nn.Module, datasets: Mapping[str, Dataset], min_terrains: int = 3,
+                         device: str = "cpu") -> list[tuple[str, dict, np.ndarray]]:
+    """(preference, item, predicted costmap) for the first item index whose field of view shows at least
+    ``min_terrains`` terrains, the same index in every dataset (Fig. 3: one image, contexts that differ)."""
+    first = next(iter(datasets.values()))
+    index = next(i for i in range(len(first)) if len(np.unique(first[i]["labels"][first[i]["fov_mask"]])) >= min_terrains)
+    out = []
+    for name, dataset in datasets.items():
+        item = dataset[index]
+        cost = model.costmap(item["image"][None].to(device), item["context"][None].to(device))[0].cpu().numpy()
+        out.append((name, item, cost))
+    return out
 
 
 def heldout_bev_params(params: Params) -> Params:

@@ -57,6 +57,12 @@ FIGURES: dict[str, tuple[tuple[str, str], ...]] = {
            ("hj/figures/fig8_face_to_face.png", "Fig. 8: FI-BRT, FS-BRT and OBS meeting a human head-on")),
     "pacer": (("pacer/figures/01_costmaps/fig1_fig4_paths.png",
                "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),
+              ("pacer/figures/01_costmaps/fig5_unseen_paths.png",
+               "Fig. 5: PACER's paths on an unseen aerial map under four preference contexts"),
+              ("pacer/figures/01_costmaps/fig3_bev_contexts.png",
+               "Fig. 3 style: one BEV image, two contexts, PACER's costmaps beside their targets"),
+              ("pacer/figures/02_navigation/paths_unseen.png",
+               "Table II: every method's path on the first unseen aerial maps"),
               ("pacer/figures/03_phase_ablation/preference_agreement.png",
                "Held-out preference agreement per training phase")),
 }
