@@ -67,7 +67,7 @@ def test_the_context_paths_figure_has_the_map_and_a_context_and_costmap_per_run(
     fig = context_paths_figure(amap, runs, "aerial map (unseen terrains)")
     assert len(fig.axes) == 1 + 2 * len(runs)
     legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
-    assert legend == ["realistic context", "inverted context", "random context 2", "random context 3"]
+    assert legend == ["realistic context", "inverted context", "random context 1", "random context 2"]
     save(fig, tmp_path / "fig5.png")
     assert (tmp_path / "fig5.png").stat().st_size > 0 and not matplotlib.pyplot.fignum_exists(fig.number)
 

@@ -87,7 +87,9 @@ def context_paths_figure(amap, runs: Sequence, title: str):
     drawn = []
     for k, run in enumerate(runs):
         colour = CONTEXT_COLOURS[k % len(CONTEXT_COLOURS)]
-        label = f"{run.preference} context" + (f" {k}" if run.preference == "random" else "")
+        label = f"{run.preference} context"
+        if run.preference == "random":  # the random orderings numbered among themselves: 1, 2, ...
+            label += f" {sum(r.preference == 'random' for r in runs[:k + 1])}"
         drawn.append((run.path, colour, label))
         axes[1 + 2 * k].imshow(context_strip(run.context))
         axes[1 + 2 * k].set_title(label, fontsize=9)
