@@ -17,9 +17,9 @@ from navlab.core.params import ParamsError, repo_root
 from navlab.pacer.aerial import aerial_maps
 from navlab.pacer.artifacts import phase_inputs
 from navlab.pacer.experiments import navigation_rows, pacer_method, uniform_method, window_oracle_method
+from navlab.pacer.profile_check import data_problems as pacer_data_problems
 from navlab.pacer.terrain import OWN_PHOTOS, load_terrain_bank, photo_digests, photos_fingerprint
 from navlab.pacer.train import load_model
-from navlab.pipeline.profile_check import pacer_data_problems
 from pacer_support import with_pacer_data
 
 NAMES = ("planks", "cobbles", "moss", "tarmac")
@@ -172,9 +172,10 @@ def bank_names(bank, group: str) -> list[str]:
 
 
 def test_every_stage_that_reads_the_bank_depends_on_the_photographs_folder():
-    from navlab.pipeline.dvc_yaml import STAGES
+    from navlab.pipeline.dvc_yaml import all_stages
 
-    readers = [s for s in STAGES if s.name.startswith("pacer_")]
+    stages = all_stages()
+    readers = [s for s in stages if s.name.startswith("pacer_")]
     assert len(readers) == 8
     assert all(OWN_PHOTOS in s.inputs for s in readers)
-    assert all(OWN_PHOTOS not in s.inputs for s in STAGES if not s.name.startswith("pacer_"))
+    assert all(OWN_PHOTOS not in s.inputs for s in stages if not s.name.startswith("pacer_"))

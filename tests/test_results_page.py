@@ -10,10 +10,10 @@ from navlab.pipeline.reports import write_table
 from navlab.pipeline.results import (
     BEGIN,
     END,
-    PAPERS,
     claims_of,
     headline_block,
     paper_claims,
+    papers,
     read_tracks,
     registries,
     render_page,
@@ -41,7 +41,7 @@ def test_the_front_door_block_is_current():
 def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_figures():
     page = (REPORTS / "README.md").read_text(encoding="utf8")
     registered = registries()
-    for track, paper in PAPERS.items():
+    for track, paper in papers().items():
         section = page.split(f"## {paper.name}\n", 1)[1].split("\n## ", 1)[0]
         assert f"### {paper.name} claims\n\n" in section
         assert track in registered
@@ -51,7 +51,7 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
         images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme.read_text(encoding="utf8"))
         assert images and all((base / image).is_file() for image in images), images
     shown = [path for figures in shown_figures(REPORTS).values() for path, _ in figures]
-    assert all(f"]({path})" in page for path in shown) and len(shown) >= len(PAPERS)
+    assert all(f"]({path})" in page for path in shown) and len(shown) >= len(papers())
 
 
 def test_claims_are_read_back_typed_and_the_tally_counts_only_the_papers():

@@ -103,7 +103,8 @@ def bev_context_costmaps(model: torch.nn.Module, datasets: Mapping[str, Dataset]
     """(preference, item, predicted costmap) for the first item index whose field of view shows at least
     ``min_terrains`` terrains, the same index in every dataset (Fig. 3: one image, contexts that differ)."""
     first = next(iter(datasets.values()))
-    index = next(i for i in range(len(first)) if len(np.unique(first[i]["labels"][first[i]["fov_mask"]])) >= min_terrains)
+    index = next(i for i, item in enumerate(first)
+                 if len(np.unique(item["labels"][item["fov_mask"]])) >= min_terrains)
     out = []
     for name, dataset in datasets.items():
         item = dataset[index]

@@ -6,22 +6,23 @@ and the paper's number beside ours where it prints one; diagnostics (intervals a
 failure counts, timings) stay in each table's own ``.md``/JSON. Each paper gets one claims table: every
 claim in its track's registry (``navlab.<track>.claims.CLAIMS``), quoted, with the verdict its report's
 typed ``claims`` records give it (or "not tested", with the reason), tallied apart from our own checks,
-which get a table of their own. A few chosen figures
-per track (``FIGURES``) are committed to git by the stages that draw them (``cache: false`` outputs,
-``navlab.pipeline.dvc_yaml``), so the page and README.md show them on GitHub and a fresh clone has them
-whichever stages it re-runs; the page links them where they lie.
+which get a table of their own. The reproduced figures of each track (its manifest's ``figures``) are
+committed to git by the stages that draw them (``cache: false`` outputs, ``navlab.pipeline.dvc_yaml``), so
+the page and README.md show them on GitHub and a fresh clone has them whichever stages it re-runs; the page
+links them where they lie. What the page knows of each paper comes from its manifest (``navlab.tracks``).
 """
 
 from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
 from importlib import import_module
 from pathlib import Path
 from typing import Any
 
+import navlab.tracks
 from navlab.core.io import DataError, write_text
+from navlab.core.track import Paper, Track
 from navlab.metrics.claims import Claim, PaperClaim, tally
 from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
 
@@ -30,64 +31,26 @@ BEGIN = "<!-- results: written by `python -m navlab reports index` from reports/
 END = "<!-- /results -->"
 
 
-@dataclass(frozen=True)
-class Paper:
-    name: str
-    title: str
-    link: str
+def manifests() -> dict[str, Track]:
+    """{report folder: its track's manifest}, in the order the page shows them (``navlab.tracks.TRACKS``, read
+    when called, so a track added there, or by a test, reaches the page)."""
+    return {track.name: track for track in navlab.tracks.TRACKS}
 
 
-PAPERS = {  # report folder -> the paper it reproduces, in the order the page shows them
-    "surenav": Paper("SuReNav", "Superpixel Graph-based Constraint Relaxation for Navigation in Over-constrained "
-                     "Environments", "https://arxiv.org/abs/2602.06807"),
-    "hj": Paper("HJ-search", "A Hamilton-Jacobi Reachability-Guided Search Framework for Efficient and Safe Indoor "
-                "Planar Robot Navigation", "https://arxiv.org/abs/2604.17679"),
-    "pacer": Paper("PACER", "Preference-conditioned All-terrain Costmap Generation", "https://arxiv.org/abs/2410.23488"),
-}
-BEFORE = {"hj": ("fig2_heuristic_values", "fig3_brt_growth")}  # Sec. VI's figures come before its Table I
+def papers() -> dict[str, Paper]:
+    """{report folder: the paper it reproduces}, in the order the page shows them."""
+    return {name: track.paper for name, track in manifests().items()}
+
+
+def figures_shown() -> dict[str, tuple[tuple[str, str], ...]]:
+    """{track: (path under reports/, caption)}: the first of each track is also the front door's figure. The
+    stage that draws each commits it to git (navlab.pipeline.dvc_yaml.committed_outs)."""
+    return {name: track.figures for name, track in manifests().items()}
+
+
 OTHER = "Pipeline check"  # report folders that reproduce no paper (the quickstart)
 
-# (path under reports/, caption): the first of each track is also the front door's figure. The stage that
-# draws each commits it to git (navlab.pipeline.dvc_yaml.committed_outs).
-FIGURES: dict[str, tuple[tuple[str, str], ...]] = {
-    "surenav": (("surenav/figures/fig5_behaviours.png",
-                 "Fig. 5: each method's executed path on one semi-static episode per test tile"),
-                ("surenav/figures/fig4_safety_efficiency.png", "Fig. 4: SPL against total risk per test tile")),
-    "hj": (("hj/figures/fig10_dense_snapshots.png", "Fig. 10: TTR + OBS against TTR + BRT in the Dense Room"),
-           ("hj/figures/fig8_face_to_face.png", "Fig. 8: FI-BRT, FS-BRT and OBS meeting a human head-on")),
-    "pacer": (("pacer/figures/01_costmaps/fig1_fig4_paths.png",
-               "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),
-              ("pacer/figures/01_costmaps/fig5_unseen_paths.png",
-               "Fig. 5: PACER's paths on an unseen aerial map under four preference contexts"),
-              ("pacer/figures/01_costmaps/fig3_bev_contexts.png",
-               "Fig. 3 style: one BEV image, two contexts, PACER's costmaps beside their targets"),
-              ("pacer/figures/02_navigation/paths_unseen.png",
-               "Table II: every method's path on the first unseen aerial maps"),
-              ("pacer/figures/03_phase_ablation/preference_agreement.png",
-               "Held-out preference agreement per training phase")),
-}
-
-# The front door's headline rows: (table id, row key, columns); a test checks each exists in the reports.
-HEADLINE: dict[str, tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]] = {
-    "surenav": (("table1_human_likeness", ("SuReNav",), ("frechet", "relaxation_iou")),
-                ("fig4_safety_efficiency", ("SuReNav", "milan"), ("sr",))),
-    "hj": (("table5_static_general", ("TTR + BRT",), ("success", "nodes_common")),
-           ("table6_dynamic", ("FI-BRT", "Face-to-Face"), ("success",)),
-           ("table8_rooms", ("TTR + BRT", "Dense Room"), ("success",))),
-    "pacer": (("table1_seen", ("PACER",), ("low",)),
-              ("table2_unseen", ("PACER",), ("low",)),
-              ("table5_margin_ranking", ("D_synthetic",), ("test_synthetic",))),
-}
-
 OUT_OF = ("trips", "tasks", "runs")  # what a headline success count is out of, where the row says
-
-# Columns shown where the paper prints no table to take them from (or, for Fig. 4, a scatter's axes).
-SHOWN = {
-    "surenav/fig4_safety_efficiency": ("sr", "spl", "total_risk"),
-    "surenav/estimator_relaxation_iou": ("val_iou", "test_iou"),
-    "pacer/context_following": ("agreement",),
-}
-
 
 # ---------------------------------------------------------------------------------------------- claims
 
@@ -97,15 +60,16 @@ def claims_of(report: dict[str, Any]) -> list[Claim]:
     return [Claim.from_dict(c) for c in report.get("claims") or []]
 
 
-# Each paper's claims registry (each module holds CLAIMS).
-CLAIM_MODULES = {"surenav": "navlab.surenav.claims", "hj": "navlab.hj.claims", "pacer": "navlab.pacer.claims"}
+def claim_modules() -> dict[str, str]:
+    """{track: the module holding its paper's claims registry (CLAIMS)}."""
+    return {name: track.claims for name, track in manifests().items() if track.claims}
 
 
 def registries() -> dict[str, dict[str, PaperClaim]]:
     """{track: its claims registry}: every claim of each paper, quoted, decided by a report or not tested.
     Imported when the page is written, not with this module (every CLI command imports it through
     ``dvc_yaml``); the index stage's deps name them (``pipeline.stages.entry_modules``)."""
-    return {track: import_module(module).CLAIMS for track, module in CLAIM_MODULES.items()}
+    return {track: import_module(module).CLAIMS for track, module in claim_modules().items()}
 
 
 def paper_claims(track: str, reports: list[tuple[str, dict[str, Any]]],
@@ -174,10 +138,10 @@ def _interval(row: dict[str, Any], col: str) -> str:
 
 
 def shown_columns(report: dict[str, Any], track: str) -> list[str]:
-    """The paper's own columns (those its printed rows carry), else the ``SHOWN`` choice, else ours less
+    """The paper's own columns (those its printed rows carry), else the manifest's ``shown`` choice, else ours less
     intervals and spreads."""
     keys = key_columns(report)
-    chosen = SHOWN.get(f"{track}/{report['table_id']}")
+    chosen = dict(manifests()[track].shown).get(report["table_id"]) if track in manifests() else None
     if chosen:
         return list(chosen)
     paper_cols = {c for r in report["paper"] for c in r}
@@ -211,7 +175,7 @@ def table_markdown(report: dict[str, Any], track: str) -> list[str]:
                 cells.append(_num(theirs[c]) if theirs.get(c) is not None else "")
         lines.append("| " + " | ".join(cells) + " |")
     unprinted = [c for c in cols if c not in printed and c not in same]
-    if track not in PAPERS:
+    if track not in manifests():
         return lines
     if not printed and not same:
         return [*lines, "", "The paper prints no number for this table."]
@@ -249,27 +213,28 @@ def _anchor(heading: str) -> str:
 
 
 def read_tracks(reports_dir: Path) -> dict[str, list[tuple[str, dict[str, Any]]]]:
-    """{track: [(table id, report)]}: papers first in ``PAPERS`` order, each paper's tables in its order
+    """{track: [(table id, report)]}: papers first in ``papers()`` order, each paper's tables in its order
     (``TABLE_IDS``), then our extra tables; folders of no paper last."""
     found: dict[str, list[tuple[str, dict[str, Any]]]] = {}
     for path in sorted(reports_dir.glob("*/*.json")):
         found.setdefault(path.parent.name, []).append((path.stem, read_table(path)))
-    order = [*PAPERS, *sorted(t for t in found if t not in PAPERS)]
+    order = [*papers(), *sorted(t for t in found if t not in papers())]
     return {t: sorted(found[t], key=lambda item: (_paper_order(t) + [item[0]]).index(item[0]))
             for t in order if t in found}
 
 
 def _paper_order(track: str) -> list[str]:
-    """The track's reports in its paper's order: the figures it reads before its first table (``BEFORE``),
+    """The track's reports in its paper's order: the figures it reads before its first table (``before``),
     then its tables (``TABLE_IDS``)."""
-    return [*BEFORE.get(track, ()), *TABLE_IDS.get(track, ())]
+    before = manifests()[track].before if track in manifests() else ()
+    return [*before, *TABLE_IDS.get(track, ())]
 
 
 def shown_figures(reports_dir: Path) -> dict[str, list[tuple[str, str]]]:
     """{track: [(path under ``reports_dir``, caption)]} of the chosen figures present: the page links no
     missing file."""
     return {track: [(source, caption) for source, caption in figures if (reports_dir / source).is_file()]
-            for track, figures in FIGURES.items()}
+            for track, figures in figures_shown().items()}
 
 
 def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[tuple[str, str]]],
@@ -288,7 +253,7 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: di
         "",
     ]
     for track, reports in tracks.items():
-        paper = PAPERS.get(track)
+        paper = papers().get(track)
         parts += [f"## {paper.name if paper else OTHER}", ""]
         if paper:
             parts += [f"[*{paper.title}*]({paper.link})", ""]
@@ -318,7 +283,7 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures:
     the paper's) and the count of claim verdicts, linking ``page`` (the results page, relative)."""
     base = page.removesuffix(INDEX)
     parts = [BEGIN, ""]
-    for track, paper in PAPERS.items():
+    for track, paper in papers().items():
         reports = dict(tracks.get(track, []))
         if not reports:
             continue
@@ -327,7 +292,7 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures:
             path, caption = figures[track][0]
             parts += [f"![{caption}]({base}{path})", ""]
         parts += ["| table | row | column | ours [95% interval] | paper |", "|---|---|---|---|---|"]
-        for table_id, key, cols in HEADLINE[track]:
+        for table_id, key, cols in manifests()[track].headline:
             report = reports[table_id]
             keys = key_columns(report)
             mine = next(r for r in report["rows"] if tuple(r.get(k) for k in keys) == key)

@@ -56,9 +56,9 @@ def entry_modules(cmd: str, root: str | Path) -> list[str]:
     if (group, sub) == ("data", "build"):
         return sorted({fn.__module__ for _, fn in data_steps()} | {"navlab.pipeline.dataset"})
     if (group, sub) == ("reports", "index"):
-        from navlab.pipeline.results import CLAIM_MODULES
+        from navlab.pipeline.results import claim_modules
 
-        return ["navlab.pipeline.results", *CLAIM_MODULES.values()]
+        return ["navlab.pipeline.results", *claim_modules().values()]
     raise ValueError(f"stage command {cmd!r}: no entry point known for `{group} {sub}`; add it to "
                      "navlab.pipeline.stages.entry_modules")
 
