@@ -43,7 +43,7 @@ def test_every_figure_the_results_page_shows_is_committed_by_its_stage():
     committed = [next(iter(o)) for stage in STAGES.values() for o in stage.get("outs", [])
                  if isinstance(o, dict) and next(iter(o.values())).get("cache") is False]
     tracked = set(subprocess.run(["git", "ls-files", "reports"], capture_output=True, text=True, check=True).stdout.split())
-    for source, _ in (f for chosen in figures_shown().values() for f in chosen):
+    for source in (f.path for chosen in figures_shown().values() for f in chosen):
         path = f"reports/{source}"
         assert any(path == o or path.startswith(o + "/") for o in committed), f"{path}: no stage commits it"
         assert path in tracked, f"{path} is not in git: un-ignore it in .gitignore and commit it"

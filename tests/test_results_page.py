@@ -50,7 +50,7 @@ def test_the_page_has_a_claims_table_per_paper_no_empty_pairs_and_only_existing_
     for readme, base in ((REPORTS / "README.md", REPORTS), (Path("README.md"), Path("."))):
         images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme.read_text(encoding="utf8"))
         assert images and all((base / image).is_file() for image in images), images
-    shown = [path for figures in shown_figures(REPORTS).values() for path, _ in figures]
+    shown = [f.path for figures in shown_figures(REPORTS).values() for f in figures]
     assert all(f"]({path})" in page for path in shown) and len(shown) >= len(papers())
 
 

@@ -24,7 +24,7 @@ from navlab.pipeline.steps import artifact_steps
 ROOT = Path(__file__).resolve().parents[1]
 
 MANIFEST = '''
-from navlab.core.track import Paper, Track, artifact_stage, notebook_stage
+from navlab.core.track import Figure, Paper, Track, artifact_stage, notebook_stage
 
 TRACK = Track(
     name="toy",
@@ -34,7 +34,7 @@ TRACK = Track(
                            ("reports/toy/figures",), ("reports/toy/table1.json",))),
     steps="navlab.toy.steps:artifact_steps",
     claims="navlab.toy.claims",
-    figures=(("toy/figures/fig1.png", "Fig. 1: the toy"),),
+    figures=(Figure("toy/figures/fig1.png", "Fig. 1: the toy", "table1"),),
     headline=(("table1", ("Toy",), ("score",)),),
     profile_checks=("navlab.toy.steps:problems",),
 )
@@ -108,6 +108,7 @@ def test_a_toy_track_reaches_dvc_yaml_the_build_steps_the_results_page_and_param
     section = page.split("## ToyNav\n", 1)[1]
     assert "[*A Toy Paper*](https://example.org/toy)" in section and "](toy/figures/fig1.png)" in section
     assert "| Toy | 0.5 | 0.7 |" in section
+    assert section.index("| Toy | 0.5 | 0.7 |") < section.index("](toy/figures/fig1.png)")  # beside its table
     assert "| [table1](toy/table1.md) | Toy beats chance |" in section  # its registry, though no report decides it
 
     problems, notes = check_profile(load_params("smoke"))

@@ -53,6 +53,16 @@ def artifact_stage(name: str, params: tuple[str, ...], inputs: tuple[str, ...], 
                  persist=outs if persist else ())
 
 
+@dataclasses.dataclass(frozen=True)
+class Figure:
+    """A reproduced figure the results page shows: ``path`` under reports/, its caption (with the paper's figure
+    number), and the table it sits beside (``beside``, a table id; "" at the head of the paper's section)."""
+
+    path: str
+    caption: str
+    beside: str = ""
+
+
 Headline = tuple[str, tuple[str, ...], tuple[str, ...]]  # (table id, row key, columns) on the front door
 
 
@@ -68,8 +78,7 @@ class Track:
     # the data build's steps of this track, after the house's raw inputs and maps: [(folder, fn(params, data_dir))]
     data_steps: str = ""
     claims: str = ""  # the module holding the paper's claims registry (CLAIMS)
-    # (path under reports/, caption): the first is the front door's figure; the stage that draws each commits it
-    figures: tuple[tuple[str, str], ...] = ()
+    figures: tuple[Figure, ...] = ()  # the first is also the front door's; the stage that draws each commits it
     headline: tuple[Headline, ...] = ()
     before: tuple[str, ...] = ()  # reports the page shows before the paper's first table (figures it reads first)
     shown: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (table id, columns) where the paper prints no table

@@ -1,7 +1,7 @@
 """HJ-search's manifest: its paper, stages, figures, headline rows, claims registry and profile checks
 (``navlab.core.track``; the pipeline reads it through ``navlab.tracks``)."""
 
-from navlab.core.track import Paper, Track, artifact_stage, notebook_stage
+from navlab.core.track import Figure, Paper, Track, artifact_stage, notebook_stage
 
 _SEARCH = ("hj.seed", "hj.grids", "hj.planner")
 _LOOP = ("hj.grids", "hj.planner", "hj.dynamic")
@@ -47,8 +47,10 @@ TRACK = Track(
     ),
     steps="navlab.hj.artifacts:artifact_steps",
     claims="navlab.hj.claims",
-    figures=(("hj/figures/fig10_dense_snapshots.png", "Fig. 10: TTR + OBS against TTR + BRT in the Dense Room"),
-             ("hj/figures/fig8_face_to_face.png", "Fig. 8: FI-BRT, FS-BRT and OBS meeting a human head-on")),
+    figures=(Figure("hj/figures/fig10_dense_snapshots.png", "Fig. 10: TTR + OBS against TTR + BRT in the Dense Room",
+                    "table8_rooms"),
+             Figure("hj/figures/fig8_face_to_face.png", "Fig. 8: FI-BRT, FS-BRT and OBS meeting a human head-on",
+                    "table6_dynamic")),
     headline=(("table5_static_general", ("TTR + BRT",), ("success", "nodes_common")),
               ("table6_dynamic", ("FI-BRT", "Face-to-Face"), ("success",)),
               ("table8_rooms", ("TTR + BRT", "Dense Room"), ("success",))),

@@ -1,7 +1,7 @@
 """PACER's manifest: its paper, stages, figures, headline rows, claims registry and profile checks
 (``navlab.core.track``; the pipeline reads it through ``navlab.tracks``)."""
 
-from navlab.core.track import Paper, Track, artifact_stage, notebook_stage
+from navlab.core.track import Figure, Paper, Track, artifact_stage, notebook_stage
 
 _TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch",
           "pacer.train.val_examples", "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction",
@@ -42,16 +42,16 @@ TRACK = Track(
     ),
     steps="navlab.pacer.artifacts:artifact_steps",
     claims="navlab.pacer.claims",
-    figures=(("pacer/figures/01_costmaps/fig1_fig4_paths.png",
-              "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),
-             ("pacer/figures/01_costmaps/fig5_unseen_paths.png",
-              "Fig. 5: PACER's paths on an unseen aerial map under four preference contexts"),
-             ("pacer/figures/01_costmaps/fig3_bev_contexts.png",
-              "Fig. 3 style: one BEV image, two contexts, PACER's costmaps beside their targets"),
-             ("pacer/figures/02_navigation/paths_unseen.png",
-              "Table II: every method's path on the first unseen aerial maps"),
-             ("pacer/figures/03_phase_ablation/preference_agreement.png",
-              "Held-out preference agreement per training phase")),
+    figures=(Figure("pacer/figures/01_costmaps/fig1_fig4_paths.png",
+                    "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),
+             Figure("pacer/figures/01_costmaps/fig3_bev_contexts.png",
+                    "Fig. 3 style: one BEV image, two contexts, PACER's costmaps beside their targets"),
+             Figure("pacer/figures/02_navigation/paths_unseen.png",
+                    "Table II: every method's path on the first unseen aerial maps", "table2_unseen"),
+             Figure("pacer/figures/01_costmaps/fig5_unseen_paths.png",
+                    "Fig. 5: PACER's paths on an unseen aerial map under four preference contexts", "table2_unseen"),
+             Figure("pacer/figures/03_phase_ablation/preference_agreement.png",
+                    "Held-out preference agreement per training phase", "context_following")),
     headline=(("table1_seen", ("PACER",), ("low",)),
               ("table2_unseen", ("PACER",), ("low",)),
               ("table5_margin_ranking", ("D_synthetic",), ("test_synthetic",))),

@@ -60,7 +60,7 @@ def committed_outs(stage: Stage) -> tuple[str, ...]:
     """The outs of ``stage`` that hold a figure the results page shows (``navlab.pipeline.results.figures_shown``):
     committed to git (cache: false) so that GitHub shows them and a fresh clone, which has no DVC cache, can
     index its reports after re-running only some stages."""
-    shown = [f"reports/{source}" for chosen in figures_shown().values() for source, _ in chosen]
+    shown = [f"reports/{f.path}" for chosen in figures_shown().values() for f in chosen]
     return tuple(o for o in stage.outs if any(f == o or f.startswith(o + "/") for f in shown))
 
 

@@ -22,7 +22,7 @@ from typing import Any
 
 import navlab.tracks
 from navlab.core.io import DataError, write_text
-from navlab.core.track import Paper, Track
+from navlab.core.track import Figure, Paper, Track
 from navlab.metrics.claims import Claim, PaperClaim, tally
 from navlab.pipeline.reports import TABLE_IDS, key_columns, read_table
 
@@ -42,9 +42,9 @@ def papers() -> dict[str, Paper]:
     return {name: track.paper for name, track in manifests().items()}
 
 
-def figures_shown() -> dict[str, tuple[tuple[str, str], ...]]:
-    """{track: (path under reports/, caption)}: the first of each track is also the front door's figure. The
-    stage that draws each commits it to git (navlab.pipeline.dvc_yaml.committed_outs)."""
+def figures_shown() -> dict[str, tuple[Figure, ...]]:
+    """{track: its manifest's figures}: the first of each track is also the front door's figure. The stage
+    that draws each commits it to git (navlab.pipeline.dvc_yaml.committed_outs)."""
     return {name: track.figures for name, track in manifests().items()}
 
 
@@ -207,6 +207,10 @@ def _checks_table(checks: list[tuple[str, Claim]]) -> list[str]:
                            [(table, c.claim, c.ours, _verdict(c), c.why) for table, c in checks])
 
 
+def _figure_markdown(figure: Figure) -> str:
+    return f"![{figure.caption}]({figure.path})\n\n*{figure.caption}*\n"
+
+
 def _anchor(heading: str) -> str:
     """GitHub's anchor for a Markdown heading."""
     return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
@@ -230,14 +234,13 @@ def _paper_order(track: str) -> list[str]:
     return [*before, *TABLE_IDS.get(track, ())]
 
 
-def shown_figures(reports_dir: Path) -> dict[str, list[tuple[str, str]]]:
-    """{track: [(path under ``reports_dir``, caption)]} of the chosen figures present: the page links no
+def shown_figures(reports_dir: Path) -> dict[str, list[Figure]]:
+    """{track: [figure]} of the manifests' figures present under ``reports_dir``: the page links no
     missing file."""
-    return {track: [(source, caption) for source, caption in figures if (reports_dir / source).is_file()]
-            for track, figures in figures_shown().items()}
+    return {track: [f for f in figures if (reports_dir / f.path).is_file()] for track, figures in figures_shown().items()}
 
 
-def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[tuple[str, str]]],
+def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[Figure]],
                 claim_registries: dict[str, dict[str, PaperClaim]]) -> str:
     profiles = sorted({report["profile"] for reports in tracks.values() for _, report in reports})
     parts = [
@@ -257,9 +260,11 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: di
         parts += [f"## {paper.name if paper else OTHER}", ""]
         if paper:
             parts += [f"[*{paper.title}*]({paper.link})", ""]
-        parts += [f"![{caption}]({path})\n\n*{caption}*\n" for path, caption in figures.get(track, [])]
+        shown = figures.get(track, [])
+        parts += [_figure_markdown(f) for f in shown if f.beside not in {table_id for table_id, _ in reports}]
         for table_id, report in reports:
             parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
+            parts += [_figure_markdown(f) for f in shown if f.beside == table_id]
         if paper:
             claims = paper_claims(track, reports, claim_registries[track])
             checks = our_checks(track, reports)
@@ -277,7 +282,7 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: di
     return "\n".join(parts)
 
 
-def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[tuple[str, str]]],
+def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: dict[str, list[Figure]],
                    page: str, claim_registries: dict[str, dict[str, PaperClaim]]) -> str:
     """The front door's results: per paper its figure, a few headline numbers (ours with intervals beside
     the paper's) and the count of claim verdicts, linking ``page`` (the results page, relative)."""
@@ -289,8 +294,8 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures:
             continue
         parts += [f"### {paper.name}", ""]
         if figures.get(track):
-            path, caption = figures[track][0]
-            parts += [f"![{caption}]({base}{path})", ""]
+            first = figures[track][0]
+            parts += [f"![{first.caption}]({base}{first.path})", ""]
         parts += ["| table | row | column | ours [95% interval] | paper |", "|---|---|---|---|---|"]
         for table_id, key, cols in manifests()[track].headline:
             report = reports[table_id]

@@ -1,7 +1,7 @@
 """SuReNav's manifest: its paper, stages, figures, headline rows, claims registry and profile checks
 (``navlab.core.track``; the pipeline reads it through ``navlab.tracks``)."""
 
-from navlab.core.track import Paper, Track, artifact_stage, notebook_stage
+from navlab.core.track import Figure, Paper, Track, artifact_stage, notebook_stage
 
 _RUN = ("surenav.graph", "surenav.benchmark", "surenav.model", "surenav.train", "surenav.planner")
 _GPS = ("artifacts/surenav/gps", "artifacts/surenav/mpnn")
@@ -49,9 +49,10 @@ TRACK = Track(
     steps="navlab.surenav.steps:artifact_steps",
     data_steps="navlab.surenav.steps:data_steps",
     claims="navlab.surenav.claims",
-    figures=(("surenav/figures/fig5_behaviours.png",
-              "Fig. 5: each method's executed path on one semi-static episode per test tile"),
-             ("surenav/figures/fig4_safety_efficiency.png", "Fig. 4: SPL against total risk per test tile")),
+    figures=(Figure("surenav/figures/fig5_behaviours.png",
+                    "Fig. 5: each method's executed path on one semi-static episode per test tile"),
+             Figure("surenav/figures/fig4_safety_efficiency.png", "Fig. 4: SPL against total risk per test tile",
+                    "fig4_safety_efficiency")),
     headline=(("table1_human_likeness", ("SuReNav",), ("frechet", "relaxation_iou")),
               ("fig4_safety_efficiency", ("SuReNav", "milan"), ("sr",))),
     shown=(("fig4_safety_efficiency", ("sr", "spl", "total_risk")),
