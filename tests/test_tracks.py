@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -18,8 +19,8 @@ from navlab.metrics.tables import Table
 from navlab.pipeline.dvc_yaml import render_dvc_yaml
 from navlab.pipeline.profile_check import check_profile
 from navlab.pipeline.reports import write_table
-from navlab.pipeline.results import read_tracks, registries, render_page, shown_figures
-from navlab.pipeline.steps import artifact_steps
+from navlab.pipeline.results import headline_block, read_tracks, registries, render_page, shown_figures
+from navlab.pipeline.steps import artifact_steps, data_steps
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -33,9 +34,13 @@ TRACK = Track(
             notebook_stage("toy_01_table", "notebooks/toy/01_table.ipynb", ("seed",), ("artifacts/toy/model",),
                            ("reports/toy/figures",), ("reports/toy/table1.json",))),
     steps="navlab.toy.steps:artifact_steps",
+    data_steps="navlab.toy.steps:data_steps",
     claims="navlab.toy.claims",
     figures=(Figure("toy/figures/fig1.png", "Fig. 1: the toy", "table1"),),
     headline=(("table1", ("Toy",), ("score",)),),
+    before=("fig0_setup",),
+    shown=(("fig0_setup", ("width",)),),
+    plots=(("artifacts/toy/model/log.tsv", "epoch", ("loss",), "Toy loss per epoch"),),
     profile_checks=("navlab.toy.steps:problems",),
 )
 '''
@@ -49,6 +54,14 @@ def build_model(params, data_dir, artifacts_dir):
 
 def artifact_steps():
     return [("toy_model", build_model)]
+
+
+def build_cells(params, data_dir):
+    return None
+
+
+def data_steps():
+    return [("cells", build_cells)]
 
 
 def problems(params, notes):
@@ -83,7 +96,9 @@ def toy_checkout(tmp_path, monkeypatch):
     from navlab.toy.track import TRACK
 
     monkeypatch.setattr(navlab.tracks, "TRACKS", (*navlab.tracks.TRACKS, TRACK))
-    return tmp_path
+    yield tmp_path
+    for name in [m for m in sys.modules if m == "navlab.toy" or m.startswith("navlab.toy.")]:
+        del sys.modules[name]  # the package lived in the temporary folder
 
 
 def test_a_toy_track_reaches_dvc_yaml_the_build_steps_the_results_page_and_params_check(toy_checkout, tmp_path):
@@ -95,13 +110,19 @@ def test_a_toy_track_reaches_dvc_yaml_the_build_steps_the_results_page_and_param
     assert "reports/toy/table1.json" in stages["reports_index"]["deps"]  # the index reads its report
     assert "lib/navlab/toy/claims.py" in stages["reports_index"]["deps"]  # and its claims registry
     assert list(stages)[-1] == "reports_index"
+    plots = yaml.safe_load(render_dvc_yaml(toy_checkout))["plots"]
+    assert {"artifacts/toy/model/log.tsv": {"x": "epoch", "y": ["loss"], "title": "Toy loss per epoch"}} in plots
 
+    assert [name for name, _ in data_steps()][-1] == "cells"  # the house's raw inputs and maps come first
     steps = dict(artifact_steps())
     assert steps["toy_model"](load_params("smoke"), None, None) == steps["toy_model"](load_params("smoke"), None, None)
 
     reports = tmp_path / "reports"
     write_table(reports, Table("table1", "ToyNav Table 1", ["method", "score"], [{"method": "Toy", "score": 0.5}],
                                [{"method": "Toy", "score": 0.7}], "set-up"), track="toy", profile="smoke", seeds=[0])
+    write_table(reports, Table("fig0_setup", "ToyNav Fig. 0", ["method", "width", "extra"],
+                               [{"method": "Toy", "width": 3, "extra": 9}], [], "set-up"),
+                track="toy", profile="smoke", seeds=[0])
     (reports / "toy" / "figures").mkdir()
     (reports / "toy" / "figures" / "fig1.png").write_bytes(b"\x89PNG")
     page = render_page(read_tracks(reports), shown_figures(reports), registries())
@@ -110,12 +131,18 @@ def test_a_toy_track_reaches_dvc_yaml_the_build_steps_the_results_page_and_param
     assert "| Toy | 0.5 | 0.7 |" in section
     assert section.index("| Toy | 0.5 | 0.7 |") < section.index("](toy/figures/fig1.png)")  # beside its table
     assert "| [table1](toy/table1.md) | Toy beats chance |" in section  # its registry, though no report decides it
+    assert section.index("ToyNav Fig. 0") < section.index("ToyNav Table 1")  # `before`: the figure first
+    assert "| method | width |\n" in section  # `shown`: the columns chosen where the paper prints no table
+    block = headline_block(read_tracks(reports), shown_figures(reports), "reports/README.md", registries())
+    toy = block.split("### ToyNav\n", 1)[1]
+    assert toy.startswith("\n![Fig. 1: the toy](reports/toy/figures/fig1.png)")
+    assert "| [ToyNav Table 1](reports/toy/table1.md) | Toy | score | 0.5 | 0.7 |" in toy
 
     problems, notes = check_profile(load_params("smoke"))
     assert "toy.width = 3: the toy needs at least 4" in problems and "toy model: 3 parameters" in notes
 
 
-def test_the_pipeline_and_core_name_no_track():
+def test_the_pipeline_names_no_track():
     """The track names appear in no module of ``pipeline/`` but those that wait for the next full re-run (their
     stages' code: the report writer's table list, the data build's parameter sections, the HJ sweep queue)."""
     names = re.compile(r"\b(surenav|pacer|hj)\b")

@@ -83,7 +83,7 @@ class Track:
     before: tuple[str, ...] = ()  # reports the page shows before the paper's first table (figures it reads first)
     shown: tuple[tuple[str, tuple[str, ...]], ...] = ()  # (table id, columns) where the paper prints no table
     profile_checks: tuple[str, ...] = ()  # fn(params, notes) -> problems, run by `params check` on every profile
-    plots: tuple[tuple[str, str, list[str], str], ...] = ()  # training curves: (file, x, y columns, title)
+    plots: tuple[tuple[str, str, tuple[str, ...], str], ...] = ()  # training curves: (file, x, y columns, title)
 
 
 def resolve(reference: str) -> Any:

@@ -80,6 +80,7 @@ class ContextRun:
     the goal cannot be reached)."""
 
     preference: str
+    ordering: np.ndarray
     context: np.ndarray
     cost: np.ndarray
     path: np.ndarray | None
@@ -87,13 +88,23 @@ class ContextRun:
 
 def context_runs(method: Method, amap: AerialMap, bank: TerrainBank, data: PacerDataParams,
                  preferences: Sequence[str], seed: int, cost_scale: float) -> list[ContextRun]:
-    """The map costed and crossed (its own start to goal) under each preference's informative context, the
-    k-th drawn as ``map_context(..., index=k)`` (so two "random" entries are two orderings)."""
-    runs = []
-    for k, preference in enumerate(preferences):
-        ordering, context, pairs = map_context(bank, data, amap, preference, True, seed, k)
+    """The map costed and crossed (its own start to goal) under each preference's informative context.
+
+    Realistic and inverted are drawn as the tables draw them for the map (``map_context(..., index=0)``, the
+    first map's draw); each "random" entry is the next draw whose ordering no earlier entry has (a map of 3
+    terrains has 6 orderings: a random one could repeat the realistic one), so the figure shows distinct
+    preferences."""
+    runs: list[ContextRun] = []
+    draw = 0
+    for preference in preferences:
+        while True:
+            index = draw if preference == "random" else 0
+            ordering, context, pairs = map_context(bank, data, amap, preference, True, seed, index)
+            draw += preference == "random"
+            if preference != "random" or all(not np.array_equal(ordering, r.ordering) for r in runs) or draw > 100:
+                break
         cost = method(amap, ordering, context, pairs)
-        runs.append(ContextRun(preference, context, cost,
+        runs.append(ContextRun(preference, ordering, context, cost,
                                plan_on_costmap(cost, amap.start, amap.goal, cost_scale).cells))
     return runs
 

@@ -52,6 +52,10 @@ def all_stages() -> tuple[Stage, ...]:
     indexes every report the others write. It does not read the figures the page shows: it links them where
     their stages commit them (``committed_outs``)."""
     stages = (*HOUSE_STAGES, *(s for track in navlab.tracks.TRACKS for s in track.stages))
+    names = [s.name for s in stages]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"stage {twice[0]!r} is declared twice (by the house or two track manifests); rename one")
     metrics = tuple(m for s in stages for m in s.metrics)
     return (*stages, Stage("reports_index", "python -m navlab reports index", (), metrics, outs=(), metrics=()))
 
@@ -87,7 +91,7 @@ def render_dvc_yaml(root: str | Path) -> str:
     """The text of dvc.yaml for the checkout at ``root``."""
     root = Path(root)
     doc = {"stages": {s.name: stage_entry(s, root) for s in all_stages()},
-           "plots": [{path: {"x": x, "y": y, "title": title}}
+           "plots": [{path: {"x": x, "y": list(y), "title": title}}
                      for track in navlab.tracks.TRACKS for path, x, y, title in track.plots]}
     return HEADER + yaml.safe_dump(doc, sort_keys=False, width=120)
 

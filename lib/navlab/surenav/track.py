@@ -58,8 +58,8 @@ TRACK = Track(
     shown=(("fig4_safety_efficiency", ("sr", "spl", "total_risk")),
            ("estimator_relaxation_iou", ("val_iou", "test_iou"))),
     profile_checks=("navlab.surenav.profile_check:model_problems",),
-    plots=(("artifacts/surenav/gps/seed0/log.tsv", "epoch", ["train_loss", "val_loss", "val_iou", "train_iou"],
+    plots=(("artifacts/surenav/gps/seed0/log.tsv", "epoch", ("train_loss", "val_loss", "val_iou", "train_iou"),
             "SuReNav estimator (GPS, seed 0) Eq. 13 loss and validation / train relaxation IoU per epoch"),
-           ("artifacts/surenav/mpnn/seed0/log.tsv", "epoch", ["train_loss", "val_loss", "val_iou", "train_iou"],
+           ("artifacts/surenav/mpnn/seed0/log.tsv", "epoch", ("train_loss", "val_loss", "val_iou", "train_iou"),
             "SuReNav MPNN-only ablation (seed 0) per epoch")),
 )

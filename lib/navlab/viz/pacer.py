@@ -11,11 +11,13 @@ from collections.abc import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
+from navlab.pacer.recognition import true_terrains_name
+
 # One colour per method, the same in every paths figure.
 METHOD_COLOURS = {"PACER": "tab:blue", "PACER (uninformative context)": "tab:cyan", "STERLING-style": "tab:orange",
                   "Classifier": "tab:purple", "Ground truth": "white", "Window oracle (ceiling)": "tab:green",
                   "Context-limited oracle": "tab:olive", "Uniform costmap (chance)": "tab:gray",
-                  "PACER on true terrains": "tab:red"}
+                  true_terrains_name("PACER"): "tab:red"}
 # A context's path, by the k-th preference of a figure.
 CONTEXT_COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple")
 
