@@ -141,7 +141,8 @@ def shown_columns(report: dict[str, Any], track: str) -> list[str]:
     """The paper's own columns (those its printed rows carry), else the manifest's ``shown`` choice, else ours less
     intervals and spreads."""
     keys = key_columns(report)
-    chosen = dict(manifests()[track].shown).get(report["table_id"]) if track in manifests() else None
+    manifest = manifests().get(track)
+    chosen = dict(manifest.shown).get(report["table_id"]) if manifest else None
     if chosen:
         return list(chosen)
     paper_cols = {c for r in report["paper"] for c in r}
@@ -230,7 +231,8 @@ def read_tracks(reports_dir: Path) -> dict[str, list[tuple[str, dict[str, Any]]]
 def _paper_order(track: str) -> list[str]:
     """The track's reports in its paper's order: the figures it reads before its first table (``before``),
     then its tables (``TABLE_IDS``)."""
-    before = manifests()[track].before if track in manifests() else ()
+    manifest = manifests().get(track)
+    before = manifest.before if manifest else ()
     return [*before, *TABLE_IDS.get(track, ())]
 
 

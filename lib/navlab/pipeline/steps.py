@@ -10,13 +10,10 @@ from __future__ import annotations
 def data_steps():
     """The steps of ``data build``, in order; each writes under its own folder of data/: the real inputs and
     the maps, then each track's own (its manifest's ``data_steps``: SuReNav's demonstrations)."""
-    import navlab.tracks
-    from navlab.core.track import resolve
     from navlab.maps.dataset import build_maps
     from navlab.pipeline.sources import build_raw
 
-    return [("raw", build_raw), ("maps", build_maps),
-            *(step for track in navlab.tracks.TRACKS if track.data_steps for step in resolve(track.data_steps)())]
+    return [("raw", build_raw), ("maps", build_maps), *_tracks_steps("data_steps")]
 
 
 def artifact_steps():
@@ -26,7 +23,14 @@ def artifact_steps():
     Each is ``fn(params, data_dir, artifacts_dir)``; `dvc repro` runs them one stage each
     (``artifacts build --only NAME``) and the notebook smoke tests run them all for ``smoke``.
     """
+    return _tracks_steps("steps")
+
+
+def _tracks_steps(provider: str) -> list:
+    """Every track's steps from its manifest's ``provider`` field (a reference to a function returning them),
+    in ``navlab.tracks.TRACKS`` order (read when called, so a track added there reaches the build)."""
     import navlab.tracks
     from navlab.core.track import resolve
 
-    return [step for track in navlab.tracks.TRACKS if track.steps for step in resolve(track.steps)()]
+    return [step for track in navlab.tracks.TRACKS if getattr(track, provider)
+            for step in resolve(getattr(track, provider))()]
