@@ -1,9 +1,9 @@
 """The SuReNav playground without a browser: what a click changes, that its numbers are the benchmark's,
 and one-line refusals for bad clicks.
 
-The estimator is untrained (built from the smoke profile's shapes, fixed seed, saved where the playground
-looks for the trained one): every rule here holds for any weights, and the trained ones are what the
-notebook smoke run and the browser test load.
+The methods are the context benchmark's, trained on the smoke profile's artefacts (the session's
+``smoke_artifacts``, which the notebook smoke runs and the browser test load too): every rule here holds
+for any weights.
 """
 
 from __future__ import annotations
@@ -20,10 +20,9 @@ from navlab.core.params import ParamsError
 from navlab.maps.perturb import OBSTACLE, adjacent_superpixels
 from navlab.metrics.navigation import path_length, risk_table, total_risk
 from navlab.metrics.relaxation import relaxed_regions
-from navlab.surenav.artifacts import model_path
-from navlab.surenav.benchmark import make_policy, run_episode
+from navlab.surenav.benchmark import run_episode, seed_run
+from navlab.surenav.context.benchmark import EXPERT
 from navlab.surenav.episodes import Environment
-from navlab.surenav.model.estimator import architecture, build_estimator
 from navlab.viz.playground.common import ERROR_MARK, UserError
 from navlab.viz.playground.surenav import EXPERTS, METHODS, MODES, SuReNavPlayground, SuReNavView
 
@@ -31,22 +30,8 @@ CLOSE = MODES[2]
 
 
 @pytest.fixture(scope="module")
-def untrained(tmp_path_factory, smoke_params):
-    """An artefacts folder holding an untrained GPS estimator as the first training seed's model."""
-    folder = tmp_path_factory.mktemp("surenav_untrained")
-    s = smoke_params.surenav
-    with torch.random.fork_rng():
-        torch.manual_seed(0)
-        model = build_estimator(s.model, attention=True).eval()
-    path = model_path(folder, "gps", s.train.seeds[0])
-    path.parent.mkdir(parents=True)
-    torch.save({**architecture(model), "weights": model.state_dict()}, path)
-    return folder
-
-
-@pytest.fixture(scope="module")
-def loaded(smoke_data, untrained):
-    return SuReNavPlayground.load("smoke", smoke_data, untrained)
+def loaded(smoke_data, smoke_artifacts):
+    return SuReNavPlayground.load("smoke", smoke_data, smoke_artifacts)
 
 
 @pytest.fixture
@@ -82,15 +67,21 @@ def test_closing_a_superpixel_changes_the_walk_and_reopening_restores_it(playgro
     assert playground.closed == frozenset() and playground.outcome() is before and playground.outcomes.hits == hits + 1
 
 
-def test_numbers_are_the_benchmark_s(playground):
-    """Each method's walk and metrics are what the benchmark's ``run_episode`` gives on the same episode."""
+def test_numbers_are_the_benchmark_s(playground, smoke_artifacts):
+    """Each method's walk and metrics are what the benchmark's ``run_episode`` gives on the same episode with
+    Fig. 4's own methods (``context.safety.fig4_methods``: SuReNav's first seed, D* Lite, the Expert)."""
+    from navlab.surenav.context.safety import fig4_methods
+
+    runs, _ = fig4_methods(playground.params, smoke_artifacts)
     playground.toggle(closable(playground))
     outcome = playground.outcome()
     smap, bench = playground.smap, playground.bench
-    env = Environment("check", playground.tile, smap, outcome.truth, np.asarray(outcome.start), np.asarray(outcome.goal), 0)
-    for method, run_name in (("D* Lite", "D* Lite"), ("SuReNav", playground.surenav_run)):
+    first = seed_run("SuReNav", playground.params.surenav.train.seeds[0])
+    for method, run, persona in (("D* Lite", "D* Lite", 0), ("SuReNav", first, 0), (EXPERTS[1], EXPERT, 1)):
+        env = Environment("check", playground.tile, smap, outcome.truth, np.asarray(outcome.start),
+                          np.asarray(outcome.goal), persona)
         ours = outcome.runs[method]
-        theirs = run_episode(env, run_name, lambda w, r=run_name: make_policy(r, env, playground.learned, bench, w.scale),
+        theirs = run_episode(env, run, lambda w, r=run, env=env: runs[r](env, w),
                              bench, playground.params.surenav.graph, risk_table(bench.unit_risk))
         assert ours.status == theirs.status
         np.testing.assert_allclose(smap.frame.cell_to_world(ours.cells), theirs.trajectory)
@@ -225,7 +216,7 @@ def test_notebook_scenario_points(playground):
 
 def test_missing_model_names_the_command(smoke_data, tmp_path):
     with pytest.raises(DataError, match=rf"--profile smoke --data-dir {smoke_data} --artifacts-dir {tmp_path} "
-                                        r"--only surenav_estimator`"):
+                                        r"--only surenav_context_demos --only surenav_context_estimator`"):
         SuReNavPlayground.load("smoke", smoke_data, tmp_path)
 
 

@@ -13,7 +13,7 @@ from navlab.metrics import claims as rules
 from navlab.metrics.claims import all_of
 from navlab.surenav import claims, paper, tables
 from navlab.surenav.benchmark import EXPERT, NOT_RUN, SURENAV, SURENAV_RCR, Outcome, seed_run
-from navlab.surenav.claims import CLAIMS, FIG4, FIG4_KEYS, T1, T1_CONTEXT
+from navlab.surenav.claims import CLAIMS, CONTROL, FIG4, FIG4_KEYS, RISK_KEYS, T1
 
 SEED = 0
 N = 30  # environments (episodes per city): enough for every rule to decide
@@ -102,7 +102,7 @@ def test_table1_claims_on_a_tie_are_never_holds():
 
 def test_table1_claims_fail_the_other_way_with_the_reason():
     swapped = {**PAPER_T1, SURENAV: (0.5, 0.2)}  # worse than D* Lite on both
-    found = {c.key: c for c in claims.table1_claims(_table1_outcomes(swapped), T1_CONTEXT, SEED)}
+    found = {c.key: c for c in claims.table1_claims(_table1_outcomes(swapped), T1, SEED)}
     lowest = found["table1.lowest_frechet"]
     assert lowest.verdict == "does not hold" and "vs D* Lite: does not hold" in lowest.ours
     assert lowest.why == f"{claims.WHY_PERSONA_BLIND}; {claims.WHY_CONTEXT_EXPERT}"
@@ -195,14 +195,28 @@ def test_fig4_claims_without_surenav_are_not_tested():
 
 # ---------------------------------------------------------------------------------------------- reports
 
-def test_reports_carry_the_claims_typed_and_their_notes_do_not_repeat_them(smoke_params):
+def test_the_per_label_control_decides_table1_as_our_own_checks(smoke_params):
     settings = smoke_params.surenav.benchmark
     methods = [*claims.BASELINES, SURENAV, EXPERT]
-    t1_outcomes = _table1_outcomes({**PAPER_T1, EXPERT: (0.1, 0.7)})
-    f4_outcomes = _fig4_outcomes({**PAPER_FIG4, EXPERT: (0.9, (20.0, 20.0), 160.0)})
-    for table, outcomes in ((tables.table1(t1_outcomes, methods, settings), t1_outcomes),
-                            (tables.fig4(f4_outcomes, methods, settings), f4_outcomes)):
-        assert "Claims" not in table.notes
-        keys = [c.key for c in table.claims if c.source == "paper"]
-        assert keys == [k for k, c in CLAIMS.items() if c.report == table.table_id]
-        assert {c.verdict for c in table.claims} == {"holds"}
+    outcomes = _table1_outcomes({**PAPER_T1, EXPERT: (0.1, 0.7)})
+    table = tables.table1(outcomes, methods, settings)
+    assert table.table_id == CONTROL and "Claims" not in table.notes and "control" in table.notes
+    paper_verdicts = _verdicts(claims.table1_claims(outcomes, CONTROL, SEED))
+    assert [(c.source, c.key, c.verdict) for c in table.claims] == [("ours", "", v) for v in paper_verdicts.values()]
+    assert all(c.claim.startswith("On the per-label control: ") for c in table.claims)
+    why = claims.control_claims(_table1_outcomes({**PAPER_T1, SURENAV: (0.5, 0.2)}), SEED)
+    assert why[0].verdict == "does not hold" and claims.WHY_SYNTHETIC_EXPERT in why[0].why
+
+
+def test_the_risk_claims_are_decided_again_under_each_rating_set_as_ours():
+    """Under a rating set that reverses the risks (SuReNav riskiest), the risk claims fail there only."""
+    outcomes = _fig4_outcomes()
+    reversed_ = _fig4_outcomes({m: (spl, (60.0 if m == SURENAV else 10.0,) * 2, length)
+                                for m, (spl, _, length) in PAPER_FIG4.items()})
+    found = claims.rated_claims({"the same ratings": outcomes, "a reversed one": reversed_}, SEED)
+    assert [c.claim.split(":")[0] for c in found] == ["Under the same ratings"] * 3 + ["Under a reversed one"] * 3
+    assert {c.source for c in found} == {"ours"} and not any(c.key for c in found)
+    paper_risk = {c.key: c.verdict for c in claims.fig4_claims(outcomes, SEED) if c.key in RISK_KEYS}
+    assert [c.verdict for c in found[:3]] == list(paper_risk.values())
+    assert found[3].verdict == "does not hold"  # SuReNav's risk below every baseline's
+    assert "a reversed one" in found[3].why and "our unit risks" in found[3].why  # names the set it used

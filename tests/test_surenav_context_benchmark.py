@@ -3,6 +3,8 @@ context features and estimator, training samples, and the non-learned Psi of its
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 import torch
@@ -20,7 +22,16 @@ from navlab.surenav.context.benchmark import LABEL_PSI, label_table_cost, oracle
 from navlab.surenav.context.dataset import relaxation_mix
 from navlab.surenav.context.features import CONTEXT_FEATURES, ContextEstimator, EstimatorCost, context_input
 from navlab.surenav.context.tiles import check_disjoint, split_tiles
-from navlab.surenav.context.training import EstimatorRun, demo_sample, estimator_runs
+from navlab.surenav.context.training import (
+    EstimatorRun,
+    context_model_path,
+    demo_sample,
+    estimator_runs,
+    held_out_runs,
+    main_run,
+    tile_city,
+    without_city,
+)
 from navlab.surenav.demo_priors import DSTAR, DSTAR_SENTENCE, LabelTraversal, dstar_note, dstar_readings
 from navlab.surenav.experts.environments import Demonstration
 from navlab.surenav.experts.store import MapDemos
@@ -164,13 +175,36 @@ def test_demo_sample_targets_the_soft_nodes_the_demonstration_entered(town):
         assert sample.target.any() and np.all(sample.data.soft.numpy()[sample.target])
 
 
-def test_estimator_runs_train_the_main_run_on_every_seed_and_each_ablation_on_the_ablation_seeds():
+def test_estimator_runs_train_the_papers_run_on_every_seed_and_each_variant_on_the_ablation_seeds():
     s = load_params("default").surenav
     runs = estimator_runs(s.demos.context, s.train)
-    assert runs == {EstimatorRun("context", "blackbox"): (0, 1, 2), EstimatorRun("labels", "blackbox"): (0,),
-                    EstimatorRun("context", "straight_through"): (0,)}
-    assert [run_name(r, "context", "blackbox") for r in runs] == [
-        "SuReNav", "SuReNav, labels input (ablation)", "SuReNav, straight-through gradient (the paper's training; ablation)"]
+    main = EstimatorRun("context", "straight_through", "closed")
+    assert main_run(s.demos.context, s.train) == main
+    assert runs == {main: (0, 1, 2), EstimatorRun("labels", "straight_through", "closed"): (0,),
+                    EstimatorRun("context", "blackbox", "path"): (0,),
+                    EstimatorRun("context", "straight_through", "path"): (0,)}
+    assert [run_name(r, main) for r in runs] == [
+        "SuReNav", "SuReNav, labels input (ablation)", "SuReNav, blackbox gradient (ours, variant)",
+        "SuReNav, false positives on the plan (ours, variant)"]
+    assert len({r.folder for r in runs}) == len(runs)  # every run trains into its own folder
+    held = held_out_runs(s.demos.context, s.train)
+    assert list(held) == ["helsinki", "kouvola", "monaco"]
+    assert held["kouvola"] == (main._replace(held_out="kouvola"), 0)
+    assert run_name(held["kouvola"][0], main) == "SuReNav trained without kouvola"
+    assert held_out_runs(PARAMS.surenav.demos.context, PARAMS.surenav.train) == {}  # smoke lists no city
+    from navlab.surenav.track import TRACK  # the manifest's plot reads the main run's log
+
+    assert TRACK.plots[0][0] == (context_model_path("artifacts", main, 0).parent / "log.tsv").as_posix()
+
+
+def test_a_held_out_run_sees_no_tile_of_its_city():
+    from types import SimpleNamespace
+
+    samples = [SimpleNamespace(name=f"{t}/semi_static/{i}") for t in ("helsinki_r0c1", "kouvola_r1c1", "monaco_r10c2")
+               for i in range(2)]
+    assert [tile_city(x.name.split("/")[0]) for x in samples[::2]] == ["helsinki", "kouvola", "monaco"]
+    assert [x.name for x in without_city(samples, "monaco")] == [x.name for x in samples[:4]]
+    assert without_city(samples, "") == samples
 
 
 def _split(split: str, name: str) -> tuple[SemanticMap, MapDemos]:
@@ -224,3 +258,50 @@ def test_context_checks_hold_only_where_the_paired_interval_excludes_zero():
     assert [c.ours.split(",")[0] for c in got] == [
         f"SuReNav - {DSTAR} = +0.1", f"SuReNav - {DSTAR} = -0.2", f"SuReNav - {LABEL_PSI} = -0.1",
         f"SuReNav - {LABEL_PSI} = +0"]
+
+
+def test_rerating_a_trajectory_integrates_the_other_table_along_the_same_cells():
+    from navlab.metrics.navigation import risk_table, total_risk
+    from navlab.surenav.context.safety import rating_sets, rerated
+    from navlab.surenav.episodes import Environment
+
+    lab = np.full((6, 6), SIDEWALK, dtype=np.uint8)
+    lab[2:4, :] = ROAD
+    lab[:, 4] = GRASS
+    frame = RasterFrame((6, 6), 0.5)
+    smap = SemanticMap("t", lab, frame)
+    cells = np.array([[0, 0], [1, 1], [2, 2], [3, 3], [4, 4], [5, 5]])
+    env = Environment("t/0", "t", smap, lab, cells[0], cells[-1], 0)
+    ours = risk_table(PARAMS.surenav.benchmark.unit_risk)
+    outcome = Outcome("m", "t/0", "t", "reached", True, 3.5, 3.5, 1.0, total_risk(cells, lab, ours, 0.5), None, None,
+                      (), frame.cell_to_world(cells))
+    sets = rating_sets(PARAMS)
+    assert next(iter(sets)) == "our unit risks" and len(sets) == 4  # ours, RCR's table, the two of params.yaml
+    assert rerated([outcome], [env], ours)[0].total_risk == pytest.approx(outcome.total_risk)
+    for table in sets.values():
+        assert rerated([outcome], [env], table)[0].total_risk == pytest.approx(total_risk(cells, lab, table, 0.5))
+    assert rerated([outcome], [env], 2 * ours)[0].total_risk == pytest.approx(2 * outcome.total_risk)
+
+
+def test_a_held_out_city_row_pairs_the_two_models_and_checks_non_inferiority():
+    from navlab.surenav.context.held_out import city_row
+
+    def outcome(method: str, env: int, iou: float) -> Outcome:
+        return Outcome(method, f"e{env}", "kouvola_r0c0", "reached", True, 10.0, 10.0, 1.0, 0.0, 0.2, iou, (),
+                       np.zeros((0, 2)))
+
+    settings = load_params("default").surenav.benchmark  # the claims' resample count (2000)
+    ious = 0.4 + 0.02 * np.arange(12)
+    base = [outcome("SuReNav [seed 0]", e, v) for e, v in enumerate(ious)]
+    for shift, verdict in ((0.0, "holds"), (0.1, "holds"), (-0.2, "does not hold")):  # better is not worse
+        held = [outcome("SuReNav trained without kouvola [seed 0]", e, v + shift) for e, v in enumerate(ious)]
+        row, check = city_row(base + held, "kouvola", settings)
+        assert row["environments"] == 12 and row["relaxation_iou_delta"] == pytest.approx(shift)
+        assert row["relaxation_iou_all_cities"] == pytest.approx(ious.mean())
+        assert (check.verdict, check.source) == (verdict, "ours"), shift
+    noisy = [outcome("SuReNav trained without kouvola [seed 0]", e, v + (0.3 if e % 2 else -0.3))
+             for e, v in enumerate(ious)]
+    row, check = city_row(base + noisy, "kouvola", settings)  # the check's interval is the row's, shifted
+    lo, hi = row["relaxation_iou_delta_ci"]
+    shown = [float(v) for v in re.search(r"CI \[([^,]+), ([^\]]+)\]", check.ours).groups()]
+    assert check.verdict == "inconclusive" and shown == pytest.approx([lo + 0.05, hi + 0.05], abs=1e-3)

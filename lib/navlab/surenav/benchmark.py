@@ -1,6 +1,9 @@
-"""Run every method of the SuReNav benchmark on every environment and summarise (Table I, Fig. 4).
+"""The SuReNav benchmark's executor, outcomes and summaries (Table I, Fig. 4), and the per-label control's methods.
 
-Each environment plays inside its window (``episodes.window``: the start-goal box grown by the
+``run_episode`` walks one method on one environment and ``table1_rows`` / ``fig4_rows`` summarise the
+outcomes, for the context benchmark (``surenav.context``: Table I, Fig. 4, Fig. 5) and the per-label
+control alike; ``Learned``, ``benchmark_runs`` and ``run_all`` run the per-label control's methods
+(``surenav.tables``). Each environment plays inside its window (``episodes.window``: the start-goal box grown by the
 executor's margin, as the expert planned), doubled while the method finds no plan inside it
 (``windows.walk``, the same rule for every method); the walker of ``sim.semi_static`` believes the
 prior map and navigates in the true one. Per episode we keep the outcome (status, SR, SPL, total risk, the
@@ -244,7 +247,8 @@ def run_all(envs: list[Environment], methods, learned: Learned, settings: Benchm
         return list(tqdm(pool.map(_run_one, tasks, chunksize=2), **bar))
 
 
-def _mean_ci(values, settings: BenchmarkParams, *key) -> tuple[float, list[float]]:
+def mean_ci(values, settings: BenchmarkParams, *key) -> tuple[float, list[float]]:
+    """(mean, its 95% bootstrap interval over the units), the draws seeded by ``key``."""
     lo, hi = bootstrap_mean_ci(values, rng(settings.seed, "bootstrap", *key), settings.bootstrap_samples)
     return float(np.mean(values)), [round(lo, 4), round(hi, 4)]
 
@@ -282,12 +286,12 @@ def fig4_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> li
             if len(per_run) == 1:
                 row["sr_ci"] = [round(v, 4) for v in wilson_ci(int(episodes.sum()), len(episodes))]
             else:
-                row["sr_ci"] = _mean_ci(episodes, settings, "fig4", method, city, "sr")[1]
+                row["sr_ci"] = mean_ci(episodes, settings, "fig4", method, city, "sr")[1]
             row["sr_seed_sd"] = _seed_sd(per_run)
             for col, value in (("spl", lambda o: o.spl), ("total_risk", lambda o: o.total_risk),
                                ("path_length_m", lambda o: o.length_m)):
                 episodes, per_run = _per_environment(mine, value)
-                row[col], row[f"{col}_ci"] = _mean_ci(episodes, settings, "fig4", method, city, col)
+                row[col], row[f"{col}_ci"] = mean_ci(episodes, settings, "fig4", method, city, col)
                 row[f"{col}_seed_sd"] = _seed_sd(per_run)
             rows.append(row)
     return rows
@@ -305,7 +309,7 @@ def table1_rows(outcomes: list[Outcome], methods, settings: BenchmarkParams) -> 
         row = {"method": method, "environments": len(envs), "seeds": len(per_run), "sr": float(envs.mean())}
         for col in ("frechet", "relaxation_iou"):
             envs, per_run = _per_environment(mine, lambda o, col=col: getattr(o, col))
-            row[col], row[f"{col}_ci"] = _mean_ci(envs, settings, "table1", method, col)
+            row[col], row[f"{col}_ci"] = mean_ci(envs, settings, "table1", method, col)
             row[f"{col}_seed_sd"] = _seed_sd(per_run)
         rows.append(row)
     return rows

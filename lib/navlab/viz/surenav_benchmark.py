@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
 
 from navlab.core.labels import HARD_IDS
-from navlab.surenav.benchmark import EXPERT, SURENAV, SURENAV_MPNN, SURENAV_RCR
+from navlab.surenav.benchmark import EXPERT, SURENAV, SURENAV_MPNN, SURENAV_RCR, Outcome, method_of
+from navlab.surenav.context.benchmark import EXPERT as CONTEXT_EXPERT
+from navlab.surenav.episodes import Environment
 from navlab.viz.region_graphs import draw_labels
 
 MARKERS = {"milan": "o", "baltimore": "s", "capitol_hill": "^"}
 COLOURS = {"D* Lite": "tab:blue", "COA*": "tab:purple", "RCR": "tab:red", SURENAV: "tab:green",
-           SURENAV_RCR: "tab:olive", SURENAV_MPNN: "tab:cyan", EXPERT: "black"}
+           SURENAV_RCR: "tab:olive", SURENAV_MPNN: "tab:cyan", EXPERT: "black", CONTEXT_EXPERT: "black"}
 
 
 def draw_safety_efficiency(ax, rows: list[dict]) -> None:
@@ -48,3 +54,22 @@ def draw_paths(ax, prior_labels: np.ndarray, truth: np.ndarray, frame, paths: di
     ax.plot(*start_xy, "o", color="tab:green", markersize=9, markeredgecolor="black")
     ax.plot(*goal_xy, "*", color="gold", markersize=14, markeredgecolor="black")
     ax.legend(fontsize=7, loc="lower right")
+
+
+def draw_behaviours(candidates: Sequence[Environment], outcomes: Sequence[Outcome], shown: Mapping[str, str],
+                    path: str | Path, margin_m: float = 20.0) -> None:
+    """Fig. 5: per city, every method's path on the episode ``shown[city]`` (``benchmark.most_contrasting``),
+    framed on the paths; saved to ``path``."""
+    cities = list(shown)
+    fig, axes = plt.subplots(1, len(cities), figsize=(6 * len(cities), 6), constrained_layout=True)
+    for ax, city in zip(np.atleast_1d(axes), cities, strict=True):
+        env = next(e for e in candidates if e.name == shown[city])
+        paths = {method_of(o.method): o.trajectory for o in outcomes if o.environment == env.name}
+        frame = env.prior.frame
+        draw_paths(ax, env.prior.labels, env.truth, frame, paths, frame.cell_to_world(env.start),
+                   frame.cell_to_world(env.goal), f"{city} ({env.prior.name}), episode {env.name}")
+        box = np.concatenate(list(paths.values()))
+        ax.set_xlim(box[:, 0].min() - margin_m, box[:, 0].max() + margin_m)
+        ax.set_ylim(box[:, 1].max() + margin_m, box[:, 1].min() - margin_m)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

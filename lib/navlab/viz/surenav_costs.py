@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.colors import Normalize
@@ -13,6 +15,7 @@ from skimage.segmentation import find_boundaries
 from navlab.core.labels import SOFT_IDS
 from navlab.graphs.region_graph import RegionGraph
 from navlab.maps.semantic_map import SemanticMap
+from navlab.surenav.estimator_report import CostScenario
 from navlab.viz.region_graphs import draw_labels
 
 
@@ -61,3 +64,29 @@ def draw_training_curves(ax_loss, ax_iou, logs: Mapping[str, list[dict]]) -> Non
         ax.set_ylabel(label)
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.legend(fontsize=7)
+
+
+def draw_training_logs(logs: Mapping[str, list[dict]], path: str | Path) -> None:
+    """``draw_training_curves`` of every run in ``logs`` side by side (loss, IoU), saved to ``path``."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4), constrained_layout=True)
+    draw_training_curves(axes[0], axes[1], logs)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def draw_learned_costs(scenarios: Sequence[CostScenario], path: str | Path) -> None:
+    """Fig. 6: each scenario's learned Psi (``draw_relaxation_costs``) on one shared colour scale, with its
+    colour bar, saved to ``path``."""
+    fig, axes = plt.subplots(1, len(scenarios), figsize=(6.5 * len(scenarios), 6), constrained_layout=True,
+                             squeeze=False)
+    soft = [sc.psi[np.isin(sc.graph.node_label[sc.nodes], SOFT_IDS)] for sc in scenarios]
+    vmax = max((float(v.max()) for v in soft if len(v)), default=1.0)
+    norm = cmap = None
+    for k, (ax, sc) in enumerate(zip(axes[0], scenarios, strict=True)):
+        cmap, norm = draw_relaxation_costs(ax, sc.view, sc.graph, sc.nodes, sc.psi, sc.route, sc.demo.path,
+                                           f"({'abcd'[k]}) {sc.view.name}, semi-static", vmax=vmax)
+    if norm is not None:
+        fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes[0], shrink=0.7,
+                     label="Psi [m] (bright = cheap)")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

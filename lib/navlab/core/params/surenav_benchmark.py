@@ -41,6 +41,7 @@ class BenchmarkParams:
     episodes: EpisodeParams
     executor: ExecutorParams
     unit_risk: dict[str, float]  # total-risk weights per free/soft label (the paper: mean LLM scores)
+    risk_ratings: dict[str, dict[str, float]]  # other rating sets Fig. 4's risk claims are decided under (ours)
     dstar_cost_floor: Annotated[float, between(0.0, 1.0)]  # D* Lite: the 0-1 scaled label cost is lifted onto [floor, 1]
     rcr: RCRParams
     bootstrap_samples: Annotated[int, between(1)]  # resamples of environments for each 95% interval

@@ -9,12 +9,14 @@ from navlab.core.params.fields import between, section
 
 @section
 class ContextEstimatorParams:
-    """How surenav_context_estimator trains (surenav.context.training): the gradient through the A*."""
+    """How surenav_context_estimator trains (surenav.context.training): the gradient through the A*, and the
+    leave-one-city-out runs."""
 
     gradient: Literal["blackbox", "straight_through"]  # the main row's; the other one is an ablation row
     lambda_m: Annotated[float, between(1e-6)]  # blackbox: how far Psi moves (metres) to let the plan change
     epochs: Annotated[int, between(1)]  # blackbox: epochs of a cosine learning-rate schedule, best validation IoU kept
     lr: Annotated[float, between(1e-7, 1.0)]  # blackbox: AdamW's starting learning rate
+    held_out_cities: tuple[Literal["helsinki", "kouvola", "monaco"], ...]  # leave-one-city-out runs, one per city listed
 
 
 @section

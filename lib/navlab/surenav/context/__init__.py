@@ -11,12 +11,14 @@ IoU; best per-label field (the per-label demonstrator's personas' mean costs) 0.
 executor with the rule Psi 0.091 / 0.640. Context share +0.300 [0.218, 0.379] (at least 0.20: holds);
 region-expressible +0.237 [0.157, 0.311] (at least 0.10: holds).
 
-The benchmark built on it (issue 25, steps 2-4; stages ``surenav_context_demos``,
-``surenav_context_estimator``, notebook ``surenav/05_context_benchmark``): ``tiles`` cuts real training
-and validation tiles disjoint from the test tiles, ``dataset`` stores the demonstrations of every split
-and their relaxation mix, ``features`` gives the estimator the rules' context per node, ``training``
-trains it (``surenav_estimator``'s architecture and Eq. 12-14 loss; the gradient through the A* by
-blackbox differentiation, ``surenav.blackbox``, with the paper's straight-through one as an ablation),
-``benchmark`` runs every Table I row on the context environments and decides the claims
-(``reports/surenav/table1_context``).
+The benchmark built on it (issues 25 and 60; stages ``surenav_context_demos``,
+``surenav_context_estimator``, notebooks ``surenav/01``-``04``): ``tiles`` cuts real training and
+validation tiles disjoint from the test tiles, ``dataset`` stores the demonstrations of every split and
+their relaxation mix, ``features`` gives the estimator the rules' context per node, ``training`` trains it
+as the paper does (``surenav_estimator``'s architecture, Eq. 12-14 on the closed set through the
+straight-through differentiable A*) beside our variants (blackbox gradient, ``surenav.blackbox``; false
+positives on the plan) and the leave-one-city-out runs; ``benchmark`` runs every Table I row on the
+context environments and decides the paper's Table I claims (``reports/surenav/table1_human_likeness``),
+``safety`` Fig. 4 and Fig. 5 on the safety-efficiency episodes with every method trained on context
+demonstrations, ``held_out`` the leave-one-city-out table.
 """

@@ -11,22 +11,26 @@ differentiable graph A*, AdamW, early stopping on the validation plan IoU, ``tra
 - the node input is ``surenav.demos.context.node_features`` (``features``): "context" adds the rules'
   context per node.
 
-and one of training:
+and two of training:
 
 - the gradient through the A* (``surenav.demos.context.estimator.gradient``): ``straight_through``
   is the paper's (Neural A*'s selection softmax) on ``surenav.train``'s schedule (lr, epochs, early
-  stopping); ``blackbox`` (``surenav.blackbox``, Vlastelica et al. 2020) trains ``estimator.epochs``
-  on a cosine schedule from ``estimator.lr`` and keeps the best validation epoch. On the validation
-  demonstrations the straight-through estimator fits no better than it generalises (plan IoU 0.53 train
-  and validation) while the rule Psi its input expresses scores 0.63; blackbox reaches 0.69 on training
-  and 0.57 on validation (seed 0; ``benchmarks/README.md``).
+  stopping); ``blackbox`` (``surenav.blackbox``, Vlastelica et al. 2020; ours) trains ``estimator.epochs``
+  on a cosine schedule from ``estimator.lr`` and keeps the best validation epoch (before the paper's
+  closed-set count became the default, seed 0's validation plan IoU was 0.57 blackbox, 0.53
+  straight-through; ``benchmarks/README.md``);
+- where Eq. (12) counts the false positives (``surenav.train.false_positives_on``, straight-through
+  only): the search's closed set (``closed``, the paper's) or the plan's relaxed regions (``path``, ours);
+  the blackbox loss counts both terms on the plan by construction (``surenav.blackbox``).
 
 The loop is ``train.train_estimator``'s (``core.training.fit``): a checkpoint after every epoch, resumed
-when its key (code, parameters, samples, seed) matches, and ``model.pt`` kept when that key matches. Runs (``estimator_runs``):
-the main (input, gradient) on every ``train.seeds``, the other input and the other gradient each on the
-first ``train.ablation_seeds`` (the ablations that measure what the features and the gradient add), in
-``artifacts/surenav/context_estimators/<input>_<gradient>/seed<k>/`` with ``model.pt``, ``checkpoint.pt`` and
-``log.tsv``.
+when its key (code, parameters, samples, seed) matches, and ``model.pt`` kept when that key matches. Runs
+(``estimator_runs``): the main run (the paper's training with the configured input) on every
+``train.seeds``; on the first ``train.ablation_seeds``: the other input, the other gradient and the other
+false-positive count (the variants that measure what each choice adds); and ``held_out_runs``: the main
+run trained without one shipped city's tiles (train and validation), once per city, on the first seed
+(the leave-one-city-out table). Each in ``artifacts/surenav/context_estimators/<run folder>/seed<k>/``
+with ``model.pt``, ``checkpoint.pt`` and ``log.tsv``.
 """
 
 from __future__ import annotations
@@ -49,6 +53,7 @@ from navlab.core.params.surenav_model import EstimatorParams, TrainParams
 from navlab.core.seeding import rng
 from navlab.core.training import TrainingRun, descend, fit, load_torch, save_torch
 from navlab.graphs.incremental import update_graph
+from navlab.maps.osm import CITIES
 from navlab.maps.semantic_map import SemanticMap
 from navlab.sim.semi_static import window_graph
 from navlab.surenav.blackbox import estimator_blackbox_loss
@@ -75,17 +80,28 @@ from navlab.surenav.train import (
 from navlab.surenav.training_data import Sample, make_sample
 
 GRADIENTS = ("blackbox", "straight_through")
+FALSE_POSITIVES = ("closed", "path")  # where Eq. (12) counts them (surenav.train.false_positives_on)
 
 
 class EstimatorRun(NamedTuple):
-    """One trained configuration: the node input (``FEATURE_SETS``) and the gradient (``GRADIENTS``)."""
+    """One trained configuration: the node input (``FEATURE_SETS``), the gradient (``GRADIENTS``), where
+    Eq. (12) counts false positives (``FALSE_POSITIVES``; ``path`` for blackbox, whose loss is on the
+    plan) and the shipped city whose tiles it never saw ("" = trained on every city)."""
 
     features: str
     gradient: str
+    false_positives: str = "closed"
+    held_out: str = ""
 
     @property
     def folder(self) -> str:
-        return f"{self.features}_{self.gradient}"
+        fp = f"_fp-{self.false_positives}" if self.gradient == "straight_through" else ""
+        return f"{self.features}_{self.gradient}{fp}" + (f"_without-{self.held_out}" if self.held_out else "")
+
+
+def tile_city(name: str) -> str:
+    """The shipped city a tile was cut from: ``<city>_r<row>c<col>`` (``maps.tiles.cut_tiles``)."""
+    return name.rsplit("_r", 1)[0]
 
 
 def demo_sample(smap: SemanticMap, demo: Demonstration, graph: GraphParams, model: EstimatorParams,
@@ -114,7 +130,8 @@ def demo_sample(smap: SemanticMap, demo: Demonstration, graph: GraphParams, mode
 
 def context_samples(artifacts_dir: str | Path, split: str, graph: GraphParams, model: EstimatorParams,
                     node_features: str, max_demos: int = 0) -> list[Sample]:
-    """Every stored context demonstration of ``split`` (train / val) as a sample (the first ``max_demos``)."""
+    """Every stored context demonstration of ``split`` (train / val) as a sample (the first ``max_demos``),
+    named ``<tile>/semi_static/<i>``."""
     out = []
     for smap, md in load_context_demos(artifacts_dir, split):
         for i, demo in enumerate(md.semi_static):
@@ -124,11 +141,17 @@ def context_samples(artifacts_dir: str | Path, split: str, graph: GraphParams, m
     return out
 
 
+def without_city(samples: Sequence[Sample], city: str) -> list[Sample]:
+    """The samples whose tile was not cut from ``city`` (all of them for "")."""
+    return [s for s in samples if not city or tile_city(s.name.split("/")[0]) != city]
+
+
 def _schedule(run: EstimatorRun, train: TrainParams, estimator: ContextEstimatorParams) -> TrainParams:
-    """``surenav.train`` as the run trains: the paper's schedule for straight-through, the blackbox one's
-    epochs and lr without early stopping (its cosine schedule keeps the best validation epoch) for blackbox."""
+    """``surenav.train`` as the run trains: the paper's schedule for straight-through (with the run's
+    false-positive count), the blackbox one's epochs and lr without early stopping (its cosine schedule keeps
+    the best validation epoch) for blackbox."""
     if run.gradient == "straight_through":
-        return train
+        return dataclasses.replace(train, false_positives_on=run.false_positives)
     return dataclasses.replace(train, epochs=estimator.epochs, lr=estimator.lr, patience=0)
 
 
@@ -174,7 +197,7 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
         return {"train_loss": float(np.mean(losses)), "val_loss": val_loss, "val_iou": val_iou, "train_iou": train_iou}
 
     fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, train.epochs, train.patience,
-                                               f"context estimator {run.folder} seed {seed}", progress=False),
+                                               f"context estimator {run.folder} seed {seed}", progress=True),
                  train_epoch, better_iou, scheduler=schedule, on_epoch=lambda rows: _write_log(rows, out_dir / "log.tsv"))
     save_torch(model_path, {**architecture(model), "weights": model.state_dict(), "best_epoch": fitted.best_epoch,
                             "key": key, "seed": seed, "features": run.features, "gradient": run.gradient,
@@ -183,34 +206,61 @@ def train_context_estimator(train_samples: Sequence[Sample], val_samples: Sequen
 
 
 def context_model_path(artifacts_dir: str | Path, run: EstimatorRun, seed: int) -> Path:
-    if run.features not in FEATURE_SETS or run.gradient not in GRADIENTS:
-        raise ValueError(f"estimator run {tuple(run)}: choose node_features from {', '.join(FEATURE_SETS)} and the "
-                         f"gradient from {', '.join(GRADIENTS)}")
+    if (run.features not in FEATURE_SETS or run.gradient not in GRADIENTS or run.false_positives not in FALSE_POSITIVES
+            or run.held_out not in ("", *CITIES)):
+        raise ValueError(f"estimator run {tuple(run)}: choose node_features from {', '.join(FEATURE_SETS)}, the "
+                         f"gradient from {', '.join(GRADIENTS)}, false positives from {', '.join(FALSE_POSITIVES)} "
+                         f"and the held-out city from {', '.join(CITIES)} (or none)")
     return Path(artifacts_dir, "surenav", "context_estimators", run.folder, f"seed{seed}", "model.pt")
 
 
+def main_run(context: ContextDemosParams, train: TrainParams) -> EstimatorRun:
+    """The main row's training: the configured input and gradient, Eq. (12) counted as ``surenav.train`` says
+    (blackbox counts on the plan)."""
+    gradient = context.estimator.gradient
+    return EstimatorRun(context.node_features, gradient,
+                        train.false_positives_on if gradient == "straight_through" else "path")
+
+
 def estimator_runs(context: ContextDemosParams, train: TrainParams) -> dict[EstimatorRun, tuple[int, ...]]:
-    """run -> training seeds: the main (input, gradient) on every seed; the other input and the other
-    gradient each on the first ``ablation_seeds`` (the ablations)."""
-    main = EstimatorRun(context.node_features, context.estimator.gradient)
+    """run -> training seeds: the main run on every seed; on the first ``ablation_seeds``, the other input,
+    the other gradient and (for a straight-through main run) the other false-positive count."""
+    main = main_run(context, train)
     ablation = tuple(train.seeds[:train.ablation_seeds])
     other_input = next(f for f in FEATURE_SETS if f != main.features)
     other_gradient = next(g for g in GRADIENTS if g != main.gradient)
-    return {main: tuple(train.seeds), main._replace(features=other_input): ablation,
-            main._replace(gradient=other_gradient): ablation}
+    runs = {main: tuple(train.seeds), main._replace(features=other_input): ablation,
+            main._replace(gradient=other_gradient,
+                          false_positives="path" if other_gradient == "blackbox" else train.false_positives_on): ablation}
+    if main.gradient == "straight_through":
+        runs[main._replace(false_positives=next(f for f in FALSE_POSITIVES if f != main.false_positives))] = ablation
+    return runs
+
+
+def held_out_runs(context: ContextDemosParams, train: TrainParams) -> dict[str, tuple[EstimatorRun, int]]:
+    """city -> (the main run trained without that city's tiles, its seed: the first training seed), for
+    each of ``estimator.held_out_cities``."""
+    return {city: (main_run(context, train)._replace(held_out=city), train.seeds[0])
+            for city in context.estimator.held_out_cities}
 
 
 def build_context_estimators(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
-    """Artefact step ``surenav_context_estimator`` (module docstring)."""
+    """Artefact step ``surenav_context_estimator`` (module docstring): every ``estimator_runs`` run, then the
+    ``held_out_runs``."""
     s = params.surenav
     samples: dict[str, tuple[list[Sample], list[Sample]]] = {}
-    for run, seeds in estimator_runs(s.demos.context, s.train).items():
+    runs = [(run, seed) for run, seeds in estimator_runs(s.demos.context, s.train).items() for seed in seeds]
+    runs += list(held_out_runs(s.demos.context, s.train).values())
+    for run, seed in runs:
         if run.features not in samples:
             samples[run.features] = tuple(context_samples(artifacts_dir, split, s.graph, s.model, run.features,
                                                           s.train.max_demos) for split in ("train", "val"))
-        for seed in seeds:
-            train_context_estimator(*samples[run.features], s.model, s.train, run, s.demos.context.estimator,
-                                    context_model_path(artifacts_dir, run, seed).parent, seed=seed)
+        train_samples, val_samples = (without_city(part, run.held_out) for part in samples[run.features])
+        if not val_samples:
+            raise DataError(f"no validation tile outside {run.held_out}: the leave-one-city-out run has nothing to "
+                            "stop on; raise surenav.demos.context.val_tiles")
+        train_context_estimator(train_samples, val_samples, s.model, s.train, run, s.demos.context.estimator,
+                                context_model_path(artifacts_dir, run, seed).parent, seed=seed)
 
 
 def load_context_estimator(artifacts_dir: str | Path, run: EstimatorRun, seed: int) -> tuple[ContextEstimator, str]:

@@ -2,14 +2,16 @@
 
 A person picks a held-out test tile, clicks a start and a goal on the map and clicks superpixels to
 close them (a new obstacle, the semi-static change of the benchmark) or to reopen them. For SuReNav,
-D* Lite, COA*, RCR and the synthetic expert (each persona) they see the executed path and the relaxed
-superpixels side by side, with path length, relaxed area, total risk and the normalised Fréchet
-distance to each persona's expert path; a toggle paints the estimator's relaxation cost Psi on the
-superpixels. Everything is computed by the benchmark's own entry points: ``benchmark.make_policy``
-(SuReNav: the GPS estimator of the first training seed, as notebook 03), ``windows.walk`` (Algorithm 1's
-walker in the planning window, widened when a method finds no plan), and the metric functions of
-Tables I and Fig. 4 (``path_length``, ``total_risk``, ``relaxed_regions``, ``normalised_frechet``);
-this module keeps the choices, checks them and caches what they give.
+D* Lite, COA*, RCR and the context demonstrator (each persona) they see the executed path and the
+relaxed superpixels side by side, with path length, relaxed area, total risk and the normalised Fréchet
+distance to each persona's path; a toggle paints the estimator's relaxation cost Psi on the superpixels.
+The methods are those of the reported benchmark, the context demonstrator's (issue 60), built by its own
+entry points (``surenav.context.benchmark``: SuReNav's main run, the paper's training, first seed, as
+notebook 03; the baselines with their priors from the context training demonstrations; the context
+walker per persona), walked by ``windows.walk`` (Algorithm 1's walker in the planning window, widened
+when a method finds no plan), and measured by the metric functions of Tables I and Fig. 4
+(``path_length``, ``total_risk``, ``relaxed_regions``, ``normalised_frechet``); this module keeps the
+choices, checks them and caches what they give.
 
 As in the benchmark, every method plans on the tile as mapped (the prior) and walks the tile with the
 closed superpixels turned into buildings (the truth): it learns of a closure only when its sensor sees
@@ -43,26 +45,20 @@ from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.navigation import path_length, risk_table, total_risk
 from navlab.metrics.relaxation import relaxed_regions
-from navlab.surenav.artifacts import model_path
-from navlab.surenav.benchmark import (
-    BASELINES,
-    EXPERT,
-    SURENAV,
-    VARIANT,
-    Learned,
-    make_policy,
-    seed_run,
-    surenav_policy,
-)
+from navlab.surenav.benchmark import BASELINES, SURENAV, seed_run
+from navlab.surenav.context.benchmark import EXPERT, Factory, baselines, surenav_runs
+from navlab.surenav.context.dataset import FOLDER as CONTEXT_DEMOS
+from navlab.surenav.context.personas import CONTEXT_PERSONAS
+from navlab.surenav.context.training import context_cost, context_model_path, main_run
 from navlab.surenav.episodes import Environment, connected
-from navlab.surenav.experts.personas import PERSONAS
+from navlab.surenav.estimator_report import relax_on_prior
 from navlab.surenav.experts.store import load_demos
-from navlab.surenav.policy import SuReNavPolicy
 from navlab.surenav.windows import walk
 from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure_bytes, require_built
 from navlab.viz.surenav_benchmark import COLOURS as METHOD_COLOURS
 
 MODES = ("start", "goal", "close / open superpixel")
+PERSONAS = CONTEXT_PERSONAS
 EXPERTS = tuple(f"Expert ({p.name})" for p in PERSONAS)
 METHODS = (SURENAV, *BASELINES, *EXPERTS)  # the panels, in order
 COLOURS = {**{m: METHOD_COLOURS[m] for m in (SURENAV, *BASELINES)},
@@ -115,15 +111,17 @@ class SuReNavPlayground:
     :class:`UserError` (one line) without changing anything when it is refused."""
 
     def __init__(self, params: Params, maps: list[SemanticMap], superpixels: dict[str, np.ndarray],
-                 defaults: dict[str, tuple[Cell, Cell]], learned: Learned):
-        self.params, self.learned = params, learned
+                 defaults: dict[str, tuple[Cell, Cell]], factories: dict[str, Factory], estimator):
+        """``factories``: a fresh policy per environment and planning window for every panel of ``METHODS`` (an
+        Expert panel's environment carries its persona); ``estimator``: SuReNav's relaxation cost maker
+        (``context.training.context_cost``), for the Psi view."""
+        self.params, self.factories, self.estimator = params, factories, estimator
         self.bench = params.surenav.benchmark
         self.maps = {m.name: m for m in maps}
         self.superpixels = superpixels
         self.sizes = {name: np.bincount(sp[sp != HARD]) for name, sp in superpixels.items()}  # cells per id
         self.defaults = defaults
         self.risk = risk_table(self.bench.unit_risk)
-        self.surenav_run = seed_run(SURENAV, params.surenav.train.seeds[0])
         self.tile = next(iter(self.maps))
         self.start, self.goal = defaults[self.tile]
         self.closed: frozenset[int] = frozenset()
@@ -138,20 +136,24 @@ class SuReNavPlayground:
         """The playground on ``profile``'s test tiles and trained estimator (first seed); a missing input stops
         with one line naming the command that builds it. Torch runs on the profile's thread count."""
         params = load_params(profile)
-        require_built([("surenav_estimator", model_path(artifacts_dir, VARIANT[SURENAV], params.surenav.train.seeds[0]))],
+        s = params.surenav
+        main, seed = main_run(s.demos.context, s.train), s.train.seeds[0]
+        require_built([("surenav_context_demos", Path(artifacts_dir, *CONTEXT_DEMOS, "index.json")),
+                       ("surenav_context_estimator", context_model_path(artifacts_dir, main, seed))],
                       params.profile, data_dir, artifacts_dir)
-        torch.set_num_threads(params.surenav.train.threads)
+        torch.set_num_threads(s.train.threads)
         maps = load_maps(data_dir, "test")
         stored = {md.map_name: md for md in load_demos(data_dir, "test")}
-        s = params.surenav
-        learned = Learned.from_training(data_dir, s.benchmark, artifacts_dir, s)
-        surenav_policy(seed_run(SURENAV, s.train.seeds[0]), learned, s.benchmark)  # loads it now, or DataError
+        estimator = context_cost(artifacts_dir, main, seed)  # loads it now, or DataError
+        base = baselines(params, artifacts_dir, every_reading=False)  # the benchmark's own factories (Fig. 4)
+        factories: dict[str, Factory] = {SURENAV: surenav_runs(params, artifacts_dir, every_run=False)[seed_run(SURENAV, seed)],
+                                         **{m: base[m] for m in BASELINES}, **dict.fromkeys(EXPERTS, base[EXPERT])}
         defaults = {}
         for smap in maps:  # each tile starts on its first test demonstration's start and goal
             demo = (stored[smap.name].semi_static or stored[smap.name].static)[0]
             defaults[smap.name] = tuple(tuple(int(v) for v in smap.frame.world_to_cell(xy))
                                         for xy in (demo.start, demo.goal))
-        return cls(params, maps, {name: md.superpixels for name, md in stored.items()}, defaults, learned)
+        return cls(params, maps, {name: md.superpixels for name, md in stored.items()}, defaults, factories, estimator)
 
     # --- what can be chosen -------------------------------------------------------------------------
     def tiles(self) -> list[str]:
@@ -287,10 +289,9 @@ class SuReNavPlayground:
         res, sp = smap.frame.resolution, self.superpixels[tile]
         walks = {}
         for method in METHODS:
-            persona = EXPERTS.index(method) if method in EXPERTS else 0
+            persona = EXPERTS.index(method) if method in EXPERTS else 0  # the context walker's persona
             env = Environment(f"{tile}/playground", tile, smap, truth, np.asarray(start), np.asarray(goal), persona)
-            run = EXPERT if method in EXPERTS else self.surenav_run if method == SURENAV else method
-            walks[method] = walk(env, lambda w, env=env, run=run: make_policy(run, env, self.learned, self.bench, w.scale),
+            walks[method] = walk(env, lambda w, env=env, make=self.factories[method]: make(env, w),
                                  self.bench.executor, self.params.surenav.graph)
         ends = smap.frame.cell_to_world(np.array([start, goal]))
         xy = {m: smap.frame.cell_to_world(w.trajectory) for m, w in walks.items()}
@@ -308,8 +309,7 @@ class SuReNavPlayground:
         sp = np.where(np.isin(truth, HARD_IDS), HARD, self.superpixels[tile])
         ends = smap.frame.cell_to_world(np.array([start, goal]))
         graph = build_region_graph(sp, truth, smap.frame, self.params.surenav.graph.tau_m).with_endpoints(*ends)
-        policy: SuReNavPolicy = surenav_policy(self.surenav_run, self.learned, self.bench)
-        nodes, psi, route = policy.relax(graph, *ends)
+        nodes, psi, route = relax_on_prior(self.estimator, smap.labels, graph, *ends, self.params)
         return Costs(graph, nodes, psi, route)
 
     def _check_ends(self, start: Cell, goal: Cell, closed: frozenset[int]) -> None:
