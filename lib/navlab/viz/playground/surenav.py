@@ -45,8 +45,8 @@ from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.navigation import path_length, risk_table, total_risk
 from navlab.metrics.relaxation import relaxed_regions
-from navlab.surenav.benchmark import BASELINES, SURENAV, seed_run
-from navlab.surenav.context.benchmark import EXPERT, Factory, baselines, surenav_runs
+from navlab.surenav.benchmark import BASELINES, SURENAV
+from navlab.surenav.context.benchmark import EXPERT, Factory, baselines, estimator_factory
 from navlab.surenav.context.dataset import FOLDER as CONTEXT_DEMOS
 from navlab.surenav.context.personas import CONTEXT_PERSONAS
 from navlab.surenav.context.training import context_cost, context_model_path, main_run
@@ -146,7 +146,7 @@ class SuReNavPlayground:
         stored = {md.map_name: md for md in load_demos(data_dir, "test")}
         estimator = context_cost(artifacts_dir, main, seed)  # loads it now, or DataError
         base = baselines(params, artifacts_dir, every_reading=False)  # the benchmark's own factories (Fig. 4)
-        factories: dict[str, Factory] = {SURENAV: surenav_runs(params, artifacts_dir, every_run=False)[seed_run(SURENAV, seed)],
+        factories: dict[str, Factory] = {SURENAV: estimator_factory(params, artifacts_dir, main, seed),
                                          **{m: base[m] for m in BASELINES}, **dict.fromkeys(EXPERTS, base[EXPERT])}
         defaults = {}
         for smap in maps:  # each tile starts on its first test demonstration's start and goal
