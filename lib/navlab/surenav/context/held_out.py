@@ -40,12 +40,12 @@ def city_row(outcomes: list[Outcome], city: str, settings: BenchmarkParams) -> t
     """One city's row (all-cities vs held-out model, paired over the city's environments) and our check."""
     held_out = HELD_OUT.format(city)
     row: dict = {"city": city, "environments": len({o.environment for o in outcomes})}
-    for metric in METRICS:
-        v = claims.paired_values(outcomes, (SURENAV, held_out), metric)
+    paired = {metric: claims.paired_values(outcomes, (SURENAV, held_out), metric) for metric in METRICS}
+    for metric, v in paired.items():
         for key, values in (("all_cities", v[SURENAV]), ("held_out", v[held_out]),
                             ("delta", v[held_out] - v[SURENAV])):
             row[f"{metric}_{key}"], row[f"{metric}_{key}_ci"] = mean_ci(values, settings, "held_out", city, metric, key)
-    iou = claims.paired_values(outcomes, (held_out, SURENAV), "relaxation_iou")
+    iou = paired["relaxation_iou"]
     draw = rng(settings.seed, "bootstrap", "held_out", city, "relaxation_iou", "delta")  # the row's delta draws
     check = ours(f"Trained without {city}, SuReNav's relaxation IoU on {city}'s test tiles is at most "
                  f"{MARGIN_IOU:g} below the all-cities model's (non-inferiority)",

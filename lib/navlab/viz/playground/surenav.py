@@ -58,8 +58,7 @@ from navlab.viz.playground.common import Memo, PlaygroundView, UserError, figure
 from navlab.viz.surenav_benchmark import COLOURS as METHOD_COLOURS
 
 MODES = ("start", "goal", "close / open superpixel")
-PERSONAS = CONTEXT_PERSONAS
-EXPERTS = tuple(f"Expert ({p.name})" for p in PERSONAS)
+EXPERTS = tuple(f"Expert ({p.name})" for p in CONTEXT_PERSONAS)
 METHODS = (SURENAV, *BASELINES, *EXPERTS)  # the panels, in order
 COLOURS = {**{m: METHOD_COLOURS[m] for m in (SURENAV, *BASELINES)},
            **dict(zip(EXPERTS, ("black", "0.35", "0.6"), strict=True))}
@@ -298,7 +297,7 @@ class SuReNavPlayground:
         runs = {}
         for method, done in walks.items():
             relaxed = relaxed_regions(done.trajectory, truth, sp)
-            frechet = {p.name: normalised_frechet(xy[method], xy[e], *ends) for p, e in zip(PERSONAS, EXPERTS, strict=True)}
+            frechet = {p.name: normalised_frechet(xy[method], xy[e], *ends) for p, e in zip(CONTEXT_PERSONAS, EXPERTS, strict=True)}
             runs[method] = MethodRun(done.status, done.trajectory, relaxed, path_length(done.trajectory, res),
                                      float(self.sizes[tile][relaxed].sum() * res * res),
                                      total_risk(done.trajectory, truth, self.risk, res), frechet)
@@ -400,7 +399,7 @@ def outcome_figure(outcome: SuReNavOutcome, smap: SemanticMap, superpixels: np.n
 def metrics_html(outcome: SuReNavOutcome) -> str:
     """Every method's metrics as a small table: status (✓: reached), path length, relaxed superpixels and area, total
     risk (Fig. 4's unit risks) and the normalised Fréchet distance to each persona's expert path (Table I)."""
-    names = [p.name for p in PERSONAS]
+    names = [p.name for p in CONTEXT_PERSONAS]
     head = ('<tr><th rowspan="2">method</th><th rowspan="2">status</th><th rowspan="2">length<br>[m]</th>'
             '<th rowspan="2">relaxed</th><th rowspan="2">relaxed<br>area [m²]</th>'
             f'<th rowspan="2">risk<br>[risk·m]</th><th colspan="{len(names)}">Fréchet to expert</th></tr>'
