@@ -130,6 +130,23 @@ def test_table2_states_the_papers_count_and_the_too_few_discordant_tasks():
     assert by["t2_ttr_more"].verdict == "inconclusive"  # 5 discordant tasks: still one short of a verdict
 
 
+def test_the_forward_only_rows_get_our_reversing_check_per_heuristic():
+    """Ours, beside Table II's paper claims: the reversing car's plans cost less than the forward-only car's,
+    paired over the tasks both solved (12 tasks 1-2 s cheaper: holds; equal costs: a tie, never holds)."""
+    cheap = [6.0 + 0.1 * i for i in range(12)]
+    results = {"ANA* w/ Dist": tasks([True] * 12, cost=cheap), "ANA* w/ TTR": tasks([True] * 12, cost=cheap),
+               "ANA* w/ Dist" + hc.FORWARD_ONLY: tasks([True] * 12, cost=[c + 1 + 0.1 * (i % 3) for i, c in
+                                                                          enumerate(cheap)]),
+               "ANA* w/ TTR" + hc.FORWARD_ONLY: tasks([True] * 12, cost=cheap)}
+    claims = hc.search_claims("table2_heuristics_anastar", results, seed=0)
+    ours = {c.claim: c.verdict for c in claims if c.source == "ours"}
+    assert ours == {"ANA* w/ Dist: the reversing car's plans cost less than the forward-only car's": "holds",
+                    "ANA* w/ TTR: the reversing car's plans cost less than the forward-only car's": "inconclusive"}
+    paper = {c.key: c.verdict for c in claims if c.source == "paper"}
+    assert paper == {c.key: c.verdict for c in hc.search_claims(
+        "table2_heuristics_anastar", {m: results[m] for m in ("ANA* w/ Dist", "ANA* w/ TTR")}, seed=0)}
+
+
 def test_table4_checks_that_brt_expands_fewer_nodes_than_obs():
     more = {"ANA* w/ OBS": tasks([True] * 12, [100 + i for i in range(12)]),
             "ANA* w/ BRT": tasks([True] * 12, [110 + i for i in range(12)])}

@@ -512,21 +512,27 @@ def test_a_reversing_car_backs_out_of_a_dead_end():
     assert (corridor.signed_distance(dense[:, 0], dense[:, 1], radius) > 0).all()
 
 
-def test_the_forward_only_car_is_a_params_variant(smoke_params):
-    """hj.grids.robot.v_min = 0 (with hj.planner.lattice.speed_levels = 9: 0.125 m/s apart) is the forward-only
-    car, a labelled variant: the lattice's levels and every grid's speed axis start at 0. A speed_levels that
-    does not fit the new range is refused with the lattice's message."""
-    from navlab.reach.precompute import specs
+def test_the_forward_only_car_is_a_params_variant(smoke_params, tmp_path):
+    """``reach.precompute.forward_only``: hj.grids.robot.v_min = 0 with the lattice's levels and every grid's
+    speed axis cut to [0, v_max] at the same spacing (9 levels 0.125 m/s apart); its two TTRs are built beside
+    the paper's car's grids, under an artefact root of the same layout, only while the car reverses. A
+    speed_levels that does not fit the new range is refused with the lattice's message."""
+    from navlab.reach.precompute import _builds, forward_only, forward_only_root, specs
 
-    h = smoke_params.hj
-    robot = dataclasses.replace(h.grids.robot, v_min=0.0)
-    lattice = dataclasses.replace(h.planner.lattice, speed_levels=9)
-    forward = dataclasses.replace(smoke_params, hj=dataclasses.replace(
-        h, grids=dataclasses.replace(h.grids, robot=robot), planner=dataclasses.replace(h.planner, lattice=lattice)))
+    forward = forward_only(smoke_params)
     spec = lattice_spec(forward)
     assert spec.v_min == 0.0 and spec.zero_level == 0 and np.allclose(spec.speeds, np.arange(9) * 0.125)
-    assert {s.grid.lo[2] for s in specs(forward)} == {0.0}
-    assert {s.grid.lo[2] for s in specs(smoke_params)} == {-0.5}
-    unfit = dataclasses.replace(forward, hj=dataclasses.replace(forward.hj, planner=h.planner))  # 13 levels over [0, 1]
+    assert np.isclose(spec.dv, lattice_spec(smoke_params).dv)
+    for mine, theirs in zip(specs(forward), specs(smoke_params), strict=True):
+        if mine.name != "human_brt":  # (p_x, p_y, v): no heading axis, not built for the variant
+            assert mine.grid.lo[2] == 0.0 and theirs.grid.lo[2] == -0.5
+            assert np.isclose(mine.grid.spacing[2], theirs.grid.spacing[2])
+    built = {str(path.relative_to(tmp_path)) for _, path in _builds(smoke_params, tmp_path)}
+    root = forward_only_root(tmp_path).relative_to(tmp_path)
+    assert {str(root / "hj" / "ttr.npy"), str(root / "hj" / "map_ttr.npy")} < built
+    assert not any(p.startswith(str(root)) for p in (str(path.relative_to(tmp_path))
+                                                     for _, path in _builds(forward, tmp_path)))
+    h = forward.hj
+    unfit = dataclasses.replace(forward, hj=dataclasses.replace(h, planner=smoke_params.hj.planner))  # 13 levels
     with pytest.raises(ValueError, match="is not a whole number of speed levels"):
         lattice_spec(unfit)

@@ -28,16 +28,25 @@ def _values(rows):
 
 def test_fig2_rows_beside_the_papers_seconds_and_its_statements_decided():
     good = _values([(5.0, 4.0, 3.5, 3.0), (6.0, 5.5, 3.5, 3.0)])
-    table = fig2_table(good, ["up", "down"], slack_s=0.2)
-    assert [r["heading"] for r in table.rows] == ["up", "down"] and table.rows[0]["map_dist_s"] == 3.5
+    falls = _values([(5.0, 4.0, 3.5, 3.0), (4.5, 4.5, 3.5, 3.0)])
+    table = fig2_table(good, ["up", "down"], slack_s=0.2, forward_only=falls)
+    assert [r["heading"] for r in table.rows] == ["up", "down", "up, forward-only car (ours)",
+                                                  "down, forward-only car (ours)"]
+    assert table.rows[0]["map_dist_s"] == 3.5 and table.rows[3]["map_ttr_s"] == 4.5
     assert [r["heading"] for r in table.paper_rows] == ["up", "down"]
     assert [r["map_ttr_s"] for r in table.paper_rows] == [p["map_ttr_s"] for p in PAPER["fig2_heuristic_values"]]
-    assert {c.verdict for c in table.claims} == {"holds"} and all(c.source == "paper" for c in table.claims)
+    paper = [c for c in table.claims if c.source == "paper"]
+    assert {c.verdict for c in paper} == {"holds"} and len(paper) == 6  # decided on the paper's car's rows only
     assert "Claims" not in table.notes and "prints no numbers" not in table.notes
+    # the forward-only car's rows get our own check, counted apart: here its map TTR falls when reversed
+    (forward,) = [c for c in table.claims if c.source == "ours"]
+    assert "forward-only car's map TTR rises" in forward.claim and forward.verdict == "does not hold"
     # map TTR falling when reversed; map Dist below general Dist: those statements do not hold
-    bad = fig2_table(_values([(5.0, 4.0, 2.5, 3.0), (4.5, 4.5, 2.5, 3.0)]), ["up", "down"], slack_s=0.2)
-    by = {c.key: c.verdict for c in bad.claims}
+    bad = fig2_table(_values([(5.0, 4.0, 2.5, 3.0), (4.5, 4.5, 2.5, 3.0)]), ["up", "down"], slack_s=0.2,
+                     forward_only=good)
+    by = {c.key: c.verdict for c in bad.claims if c.source == "paper"}
     assert by["fig2_map_ttr_rises"] == by["fig2_map_over_general"] == "does not hold"
+    assert [c.verdict for c in bad.claims if c.source == "ours"] == ["holds"]
 
 
 def test_fig3_growth_claim():

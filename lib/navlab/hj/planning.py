@@ -19,6 +19,7 @@ clear, so a plan of theirs that fails it is a bug: ``run`` raises.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -116,17 +117,27 @@ class Planner:
         self.table = primitive_table(self.spec)
         self.artifacts_dir = artifacts_dir
         self._ttr = load_ttr(params, artifacts_dir)
-        self._brt = load_static_brt(params, artifacts_dir, room)
-        self.margin_report = None
-        if margin is None:
-            self.margin_report = measure_static_brt_margin(params, artifacts_dir, room, self.p.brt_margin_refine,
-                                                           log=log)
-            margin = self.margin_report["margin"]
-        self.margin = float(margin)
+        self._log, self._margin, self.margin_report = log, None if margin is None else float(margin), None
         self._obs = obs_pruner(self.room, self.robot.radius_m)  # swept
         self._obs_point = obs_point_pruner(self.room, self.robot.radius_m)
         self.costmap = Costmap(costmap_field(self.room, self.robot.radius_m, self.p.cost_decay_per_m),
                                self.p.cost_weight) if costs else Costmap()
+
+    @functools.cached_property
+    def _brt(self):
+        """The room's static BRT, read on first use: the forward-only car's rows (Tables I-II) prune with OBS
+        and have no BRT of their own (``reach.precompute.forward_only``)."""
+        return load_static_brt(self.params, self.artifacts_dir, self.room.name)
+
+    @property
+    def margin(self) -> float:
+        """Eq. 12's margin m of the BRT pruner, measured on first use (``reach.brt_margin``, cached by the
+        ``hj_margins`` stage) unless the constructor was given one."""
+        if self._margin is None:
+            self.margin_report = measure_static_brt_margin(self.params, self.artifacts_dir, self.room.name,
+                                                           self.p.brt_margin_refine, log=self._log)
+            self._margin = float(self.margin_report["margin"])
+        return self._margin
 
     def heuristic(self, name: str, goal_xy, tolerance: float):
         if name == "Dist":

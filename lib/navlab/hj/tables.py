@@ -41,6 +41,8 @@ TABLE6_COLUMNS = ["method", "scenario", "success", "runs", "success_rate", "succ
                   "contacts_on_plan", "time_s", "time_s_ci", "time_all_s", "detour_m", "detour_m_ci"]
 
 
+FORWARD_ONLY_NOTE = ("Rows 'forward-only car (ours)': the old default, v in [0, v_max] in the lattice (the same "
+                     "speed spacing) with its own TTR grid (reach.precompute.forward_only), the paper's OBS check.")
 PRUNER_NOTE = ("OBS is the paper's conventional instantaneous check (clearance at the states the search samples, 4 "
                "per 0.5 s step), BRT the static BRT there (Eq. 12); a plan either passes that grazes an obstacle "
                "between samples fails the paper's dense check (8 points per sample under the dynamics) and counts as "
@@ -89,7 +91,7 @@ def table1(results: Mapping[str, list], excess: Mapping[str, float], seed: int, 
              "primitives, each ending exactly on a lattice state, swept-disc collision test conservative (a plan "
              "found clears the obstacles); Dijkstra (h = 0), A* w/ Dist (distance to the goal disc / v_max) and "
              f"A* w/ TTR (the TTR grid less its largest excess over the open room's exact cost-to-go, "
-             f"{max(deltas, default=0.0):.3f} s; h = 0 on goal states); cost = duration in s.")
+             f"{max(deltas, default=0.0):.3f} s; h = 0 on goal states); cost = duration in s. " + FORWARD_ONLY_NOTE)
     claims = hj_claims.table1_claims(results, lattice, seed)
     return _search_table("table1_heuristics_astar", rows + lattice_rows, shown + lattice_shown, setup, claims)
 
@@ -101,7 +103,7 @@ def table2(results: Mapping[str, list], excess: Mapping[str, float], seed: int, 
              "solution, cost = the final (best) solution's cost. *_common: over tasks both solved; *_all: over "
              "each method's successes; 95% bootstrap CIs over tasks, Wilson for success. Our car reverses as "
              "the paper's does (v in [v_min, v_max] with v_min < 0, hj.grids.robot, in the lattice and the HJ grids). "
-             + excess_note(excess))
+             + FORWARD_ONLY_NOTE + " " + excess_note(excess))
     return _search_table("table2_heuristics_anastar", rows, ana_rows(rows), setup,
                          hj_claims.search_claims("table2_heuristics_anastar", results, seed))
 

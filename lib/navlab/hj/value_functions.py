@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from navlab.core.grid import RasterFrame
-from navlab.hj.claims import fig2_claims, fig3_claims
+from navlab.hj.claims import FORWARD_ONLY, fig2_claims, fig2_forward_only_check, fig3_claims
 from navlab.hj.paper import PAPER
 from navlab.metrics.tables import Table
 from navlab.reach.heuristics import euclidean_time
@@ -42,21 +42,29 @@ def heuristic_values(robots: Sequence[tuple[float, float, float, float]], goal_x
     return values
 
 
-def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str], slack_s: float) -> Table:
+def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str], slack_s: float,
+               forward_only: Mapping[tuple[int, str], float]) -> Table:
     """Fig. 2's values, one row per robot heading (the upward one first, then the reversed one, as the paper's
-    two rows), beside the paper's seconds, and Sec. VI-A's statements decided on them. ``slack_s``: the goal
-    disc's radius / v_max (the TTR is the time to the disc, Dist to its centre)."""
-    rows = [{"heading": h, **{col: values[(r, name)] for name, col in HEURISTICS.items()}}
-            for r, h in enumerate(headings)]
+    two rows), beside the paper's seconds, and Sec. VI-A's statements decided on them; then the forward-only
+    car's two rows (``forward_only``: ``heuristic_values`` on its TTR grids, ``reach.precompute.forward_only``),
+    a labelled variant with our own check. ``slack_s``: the goal disc's radius / v_max (the TTR is the time to
+    the disc, Dist to its centre)."""
+    def rows_of(vals, suffix=""):
+        return [{"heading": h + suffix, **{col: vals[(r, name)] for name, col in HEURISTICS.items()}}
+                for r, h in enumerate(headings)]
+
+    rows, forward = rows_of(values), rows_of(forward_only, FORWARD_ONLY)
     paper = [{"heading": h, **p} for h, p in zip(headings, PAPER["fig2_heuristic_values"], strict=True)]
     notes = ("The four heuristics of Fig. 2 at its robots (speed 0.5 m/s, the headings as rows), in seconds to the "
              "goal: map TTR (one reach-avoid solve for this goal), general TTR (dynamics, no obstacles), map Dist "
              "(shortest free path / v_max on a 0.1 m raster) and general Dist (straight line / v_max). The paper's "
              "rows are the seconds Sec. VI-A prints for its robot heading upward and reversed; its robot's position "
              "and speed are blank in its text, and our room, robot and goal are our own, so the seconds differ and "
-             "only the orderings compare. Our car reverses, as the paper's (v_min < 0, hj.grids.robot).")
-    return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows, paper, notes,
-                 fig2_claims(rows, slack_s))
+             "only the orderings compare. Our car reverses, as the paper's (v_min < 0, hj.grids.robot). Rows "
+             "'forward-only car (ours)': the same robots under the old default (v >= 0, its own TTR grids at the "
+             "same spacing); Dist does not depend on the car.")
+    return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows + forward, paper, notes,
+                 [*fig2_claims(rows, slack_s), fig2_forward_only_check(forward)])
 
 
 def fig3_table(speeds: Sequence[float], unsafe: Sequence[float]) -> Table:

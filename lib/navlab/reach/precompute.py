@@ -10,7 +10,11 @@ every grid stale:
   the room, failure set = signed distance to walls and obstacles minus the robot radius;
 - ``human_brt.npy``: human-robot BRT in the robot's body frame, (p_x, p_y, v);
 - ``map_ttr.npy``: map-based TTR to the goal ``hj.grids.map_ttr.goal_xy`` of one room (reach-avoid),
-  (x, y, v, θ) over the room.
+  (x, y, v, θ) over the room;
+- ``forward_only/hj/{ttr,map_ttr}.npy``: the two TTRs of the forward-only car (v >= 0), for the labelled
+  variant rows of Tables I-II and Fig. 2 (issue 59); ``forward_only_root`` is an artefact root of the same
+  layout, so ``load_ttr(forward_only(params), forward_only_root(artifacts_dir))`` reads them. Built only
+  when the car reverses (v_min < 0).
 
 ``build_hj_grids`` is the ``hj_grids`` artefact step; it skips files whose sidecar already records the
 same inputs, so ``dvc repro`` after an unrelated change recomputes nothing. ``load_*`` open the files for
@@ -195,6 +199,47 @@ def specs(params: Params) -> list[GridSpec]:
             map_ttr_spec(params)]
 
 
+FORWARD_ONLY = "forward_only"
+
+
+def _forward_points(n: int, v_min: float, v_max: float) -> int:
+    """Points of a speed axis cut from [v_min, v_max] (n points) to [0, v_max] at the same spacing."""
+    return round(v_max / ((v_max - v_min) / (n - 1))) + 1
+
+
+def forward_only(params: Params) -> Params:
+    """The forward-only car (v in [0, v_max]): the old default, kept as a labelled variant (issue 59). The
+    speed axes of the grids and the lattice's speed levels keep their spacing, so the variant differs from the
+    paper's reversing car in the speeds it may take, not in resolution."""
+    g, lat = params.hj.grids, params.hj.planner.lattice
+    v0, v1 = g.robot.v_min, g.robot.v_max
+
+    def cut(shape):
+        return (*shape[:2], _forward_points(shape[2], v0, v1), *shape[3:])
+
+    grids = dataclasses.replace(
+        g, robot=dataclasses.replace(g.robot, v_min=0.0), ttr=dataclasses.replace(g.ttr, shape=cut(g.ttr.shape)),
+        static_brt=dataclasses.replace(g.static_brt, shape=cut(g.static_brt.shape)))
+    lattice = dataclasses.replace(lat, speed_levels=_forward_points(lat.speed_levels, v0, v1))
+    planner = dataclasses.replace(params.hj.planner, lattice=lattice)
+    return dataclasses.replace(params, hj=dataclasses.replace(params.hj, grids=grids, planner=planner))
+
+
+def forward_only_root(artifacts_dir: str | Path) -> Path:
+    """The forward-only car's artefact root (inside the ``hj_grids`` output, laid out as ``artifacts_dir``)."""
+    return Path(artifacts_dir) / SUBDIR / FORWARD_ONLY
+
+
+def _builds(params: Params, artifacts_dir: str | Path) -> list[tuple[GridSpec, Path]]:
+    """(spec, file) of every grid ``hj_grids`` stores: the paper's car's, then the forward-only car's TTRs."""
+    out = [(spec, grid_path(artifacts_dir, spec.name)) for spec in specs(params)]
+    if params.hj.grids.robot.v_min < 0:
+        forward = forward_only(params)
+        out += [(spec, grid_path(forward_only_root(artifacts_dir), spec.name))
+                for spec in (ttr_spec(forward), map_ttr_spec(forward))]
+    return out
+
+
 def grid_path(artifacts_dir: str | Path, name: str) -> Path:
     return Path(artifacts_dir) / SUBDIR / f"{name}.npy"
 
@@ -213,8 +258,7 @@ def build_hj_grids(params: Params, data_dir: str | Path, artifacts_dir: str | Pa
                          f"set it to cpu in params.yaml or run on a machine with one")
     backend = Backend(device=device, progress=progress, compile=params.hj.grids.compile)
     out = []
-    for spec in specs(params):
-        path = grid_path(artifacts_dir, spec.name)
+    for spec, path in _builds(params, artifacts_dir):
         if is_current(path, spec.inputs):
             log(f"[hj_grids] {spec.name}: up to date ({path})")
         else:
