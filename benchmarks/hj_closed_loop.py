@@ -21,8 +21,8 @@ import numpy as np
 
 from navlab.core.params import load_params
 from navlab.hj.closed_loop import timing
+from navlab.hj.grids import build_hj_grids
 from navlab.hj.scenarios import ClosedLoop
-from navlab.reach.precompute import build_hj_grids
 
 PERIOD_MS = 1000.0 / 12.0  # the paper's re-plan rate (Sec. VIII-A)
 

@@ -29,11 +29,11 @@ import time
 
 import torch
 
+from navlab.hj.reachability import general_ttr, static_brt
 from navlab.reach.dynamics import DubinsCar4D
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend, solve
-from navlab.reach.value_functions import general_ttr, static_brt
 
 CAR = DubinsCar4D(v_max=1.0, a_min=-1.0, a_max=1.0, omega_max=1.0)
 ROOM = (9.6, 5.4)

@@ -38,7 +38,7 @@ PAPER_MINUTES = {"ttr": 27.7, "static_brt": 26.0}  # Sec. VIII-A, on a 16-core C
 def _spec(kind: str, scale: float):
     """The `paper` profile's grid spec of ``kind``, x and y scaled by ``scale`` (at least 9 nodes each)."""
     from navlab.core.params import load_params
-    from navlab.reach import precompute
+    from navlab.hj import grids as hj_grids
 
     params = load_params("paper")
     g = params.hj.grids
@@ -47,7 +47,7 @@ def _spec(kind: str, scale: float):
     section = dataclasses.replace(section, shape=shape)
     grids = dataclasses.replace(g, **{kind: section}, device="cpu")
     params = dataclasses.replace(params, hj=dataclasses.replace(params.hj, grids=grids))
-    spec = precompute.ttr_spec(params) if kind == "ttr" else precompute.static_brt_spec(params, "simulation")
+    spec = hj_grids.ttr_spec(params) if kind == "ttr" else hj_grids.static_brt_spec(params, "simulation")
     return params, spec, section.horizon_s
 
 
@@ -55,13 +55,13 @@ def steps_to_horizon(kind: str, scale: float) -> int:
     """Steps of the CFL-limited solve to the profile's horizon on the scaled grid (``reach.solver``'s dt)."""
     import torch
 
-    from navlab.reach import precompute
+    from navlab.hj import grids as hj_grids
     from navlab.reach.solver import dissipation_coefficients, max_rate
 
     params, spec, horizon = _spec(kind, scale)
-    grid, settings = spec.grid, precompute._settings(params)
+    grid, settings = spec.grid, hj_grids._settings(params)
     state = [grid.mesh(d, "cpu", torch.float32) for d in range(grid.ndim)]  # broadcast axes: no full mesh
-    rate = max_rate(dissipation_coefficients(precompute._car(params), grid, state, settings.dissipation), grid)
+    rate = max_rate(dissipation_coefficients(hj_grids._car(params), grid, state, settings.dissipation), grid)
     return math.ceil(horizon * rate / settings.cfl)
 
 
@@ -69,17 +69,17 @@ def worker(kind: str, scale: float, steps: int, threads: int, compile: bool = Tr
     """Time ``steps`` solver steps (after a compiling warm-up) on the scaled grid; peak RSS of this process."""
     import torch
 
-    from navlab.reach import precompute
+    from navlab.hj import grids as hj_grids
     from navlab.reach.solver import Backend, dissipation_coefficients, max_rate, solve
 
     torch.set_num_threads(threads)
     params, spec, _ = _spec(kind, scale)
-    grid, car, settings = spec.grid, precompute._car(params), precompute._settings(params)
+    grid, car, settings = spec.grid, hj_grids._car(params), hj_grids._settings(params)
     x, y = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
     if kind == "ttr":  # the goal disc at the origin, as general_ttr starts
         surface = np.hypot(x, y) - params.hj.grids.ttr.goal_radius_m
     else:  # the room's walls and obstacles less the robot's radius, as static_brt starts
-        surface = precompute.room_obstacle_distance(precompute.load_room("simulation"), grid) \
+        surface = hj_grids.room_obstacle_distance(hj_grids.load_room("simulation"), grid) \
             - params.hj.grids.robot.radius_m
     initial = torch.as_tensor(surface, dtype=torch.float32)[:, :, None, None].expand(grid.shape).contiguous()
     state = [grid.mesh(d, "cpu", torch.float32) for d in range(grid.ndim)]

@@ -21,10 +21,10 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from navlab.core.params import load_params
+from navlab.hj.grids import build_hj_grids
 from navlab.hj.planning import Planner
 from navlab.hj.timing import expansion_inputs, in_search_seconds, time_calls
 from navlab.reach.lookup import to_goal_frame
-from navlab.reach.precompute import build_hj_grids
 from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
 

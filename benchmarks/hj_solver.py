@@ -76,11 +76,11 @@ def torch_worker(failure: np.ndarray, device: str, compile: bool, repeats: int) 
 
     torch.set_num_threads(len(os.sched_getaffinity(0)))
 
+    from navlab.hj.reachability import avoid_tube
     from navlab.reach.dynamics import DubinsCar4D
     from navlab.reach.grid import Grid
     from navlab.reach.settings import SolverSettings
     from navlab.reach.solver import Backend
-    from navlab.reach.value_functions import avoid_tube
 
     grid = Grid(LO, HI, failure.shape, (False, False, False, True))
     car = DubinsCar4D(V_MAX, A_MIN, A_MAX, OMEGA_MAX, control_mode="max")

@@ -21,6 +21,7 @@ import argparse
 import math
 
 from navlab.core.params import load_params
+from navlab.hj.grids import load_ttr
 from navlab.hj.planning import Planner, heading_tasks, random_pairs
 from navlab.hj.state_lattice_runs import (
     DIJKSTRA,
@@ -34,7 +35,6 @@ from navlab.hj.state_lattice_runs import (
     settings_of,
 )
 from navlab.maps.rooms import load_room
-from navlab.reach.precompute import load_ttr
 from navlab.search.state_lattice import build_primitives
 
 

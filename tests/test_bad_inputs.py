@@ -196,9 +196,9 @@ def test_hj_degenerate_systems_and_grids_are_refused(make, message):
 
 
 def test_hj_solver_refuses_an_infinite_horizon_a_short_periodic_axis_and_a_negative_radius():
+    from navlab.hj.reachability import disk_signed_distance
     from navlab.reach.settings import SolverSettings
     from navlab.reach.solver import Backend, solve
-    from navlab.reach.value_functions import disk_signed_distance
     from reach_dynamics_support import SingleIntegrator
 
     grid = Grid((-1.0, -1.0), (1.0, 1.0), (11, 11), (False, False))
@@ -216,7 +216,7 @@ def test_hj_solver_refuses_an_infinite_horizon_a_short_periodic_axis_and_a_negat
 def test_map_ttr_goal_outside_the_room_is_a_params_error(smoke_params):
     import dataclasses
 
-    from navlab.reach.precompute import map_ttr_spec
+    from navlab.hj.grids import map_ttr_spec
 
     g = smoke_params.hj.grids
     params = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=dataclasses.replace(

@@ -55,17 +55,17 @@ def run_copy(lib: Path, script: str, cwd: Path) -> str:
 
 
 def test_module_set_follows_imports_including_those_inside_functions():
-    modules = imported_modules("navlab.reach.precompute")
-    assert "navlab.reach.value_functions" in modules  # imported inside a function of precompute
+    modules = imported_modules("navlab.hj.grids")
+    assert "navlab.hj.reachability" in modules  # imported inside a function of grids
     assert "navlab.maps.rooms" in modules and "navlab.reach" in modules  # a dependency and a package __init__
     assert not any(m.startswith(("navlab.pacer", "navlab.surenav")) for m in modules)
 
 
 def test_fingerprint_changes_with_the_source_it_runs_and_only_that(tmp_path):
-    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py",
+    lib = copy_lib(tmp_path, "navlab/hj/reachability.py",
                    "collision_radius, backend.device, backend.dtype)",
                    "2 * collision_radius, backend.device, backend.dtype)")
-    assert code_fingerprint("navlab.reach.precompute", lib=lib) != code_fingerprint("navlab.reach.precompute")
+    assert code_fingerprint("navlab.hj.grids", lib=lib) != code_fingerprint("navlab.hj.grids")
     assert code_fingerprint("navlab.pacer.artifacts", lib=lib) == code_fingerprint("navlab.pacer.artifacts")
     with pytest.raises(ValueError, match="no such navlab module"):
         code_fingerprint("navlab.no_such_module")
@@ -76,10 +76,10 @@ def test_a_new_field_in_one_params_section_leaves_other_results_current(tmp_path
     not re-solve the HJ grids; an edit of the loader (profile resolution) still does."""
     field = copy_lib(tmp_path / "field", "navlab/core/params/pacer.py", "@section",
                      "# a new field\n@section")
-    assert code_fingerprint("navlab.reach.precompute", lib=field) == code_fingerprint("navlab.reach.precompute")
+    assert code_fingerprint("navlab.hj.grids", lib=field) == code_fingerprint("navlab.hj.grids")
     loader = copy_lib(tmp_path / "loader", "navlab/core/params/__init__.py", "tree.get(profile, tree[\"default\"])",
                       "tree.get(profile) or tree[\"default\"]")
-    assert code_fingerprint("navlab.reach.precompute", lib=loader) != code_fingerprint("navlab.reach.precompute")
+    assert code_fingerprint("navlab.hj.grids", lib=loader) != code_fingerprint("navlab.hj.grids")
 
 
 # --- PACER training ------------------------------------------------------------------------------------------
@@ -192,16 +192,16 @@ def test_a_data_parameter_or_street_map_change_retrains_a_phase_instead_of_resum
 
 
 def test_edited_hj_module_rebuilds_the_grids(smoke_params, tmp_path):
-    from navlab.reach.precompute import build_hj_grids, grid_path
+    from navlab.hj.grids import build_hj_grids, grid_path
 
     build_hj_grids(smoke_params, None, tmp_path / "run", progress=False, log=lambda m: None)
     old = grid_path(tmp_path / "run", "human_brt").read_bytes()
-    lib = copy_lib(tmp_path, "navlab/reach/value_functions.py",
+    lib = copy_lib(tmp_path, "navlab/hj/reachability.py",
                    "collision_radius, backend.device, backend.dtype)",
                    "2 * collision_radius, backend.device, backend.dtype)")
     run_copy(lib, """
         from navlab.core.params import load_params
-        from navlab.reach.precompute import build_hj_grids
+        from navlab.hj.grids import build_hj_grids
         for out in ("run", "fresh"):
             build_hj_grids(load_params("smoke"), None, out, progress=False, log=lambda m: None)
     """, tmp_path)
@@ -212,7 +212,7 @@ def test_edited_hj_module_rebuilds_the_grids(smoke_params, tmp_path):
 
 
 def test_corrupt_grid_of_the_right_size_is_rebuilt(smoke_params, tmp_path):
-    from navlab.reach.precompute import build_hj_grids, grid_path, load_human_brt
+    from navlab.hj.grids import build_hj_grids, grid_path, load_human_brt
 
     build_hj_grids(smoke_params, None, tmp_path, progress=False, log=lambda m: None)
     path = grid_path(tmp_path, "human_brt")

@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 from navlab.hj.guidance import dist_heuristic
 from navlab.hj.lattice_policy import LatticePolicy
 from navlab.hj.pruners import FIParams, human_pruner, obs_pruner, static_brt_pruner
+from navlab.hj.receding_horizon import Observation
 from navlab.maps.rooms import Disc, Room
 from navlab.reach.grid import Grid
 from navlab.reach.lookup import HumanBRTLookup, StaticBRTLookup
@@ -29,7 +30,6 @@ from navlab.search.dubins_lattice import LatticeSpec, primitive_table, successor
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_reference import astar_reference
 from navlab.search.lattice_search import Budget, Costmap, Goal, Pruners, StaticPruner, search
-from navlab.sim.receding_horizon import Observation
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
 SPEC = LatticeSpec(0.5, (-0.5, 0.0, 0.5), (-1.0, 0.0, 1.0), 0.5, 3, 3, 0.25, 8)

@@ -14,8 +14,8 @@ import pytest
 
 from navlab.hj import claims as hc
 from navlab.hj.planning import TaskResult
+from navlab.hj.receding_horizon import Run, Trip
 from navlab.pipeline.reports import TABLE_IDS
-from navlab.sim.receding_horizon import Run, Trip
 
 PAPER_TEXT = Path(__file__).resolve().parents[2] / "shared" / "papers" / "hj_reachability_search.md"
 REPORTS = {*TABLE_IDS["hj"], hc.FIG2, hc.FIG3}

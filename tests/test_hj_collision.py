@@ -162,7 +162,7 @@ def test_the_papers_point_check_lets_plans_graze_and_the_closed_loop_never_drive
     random rooms some plans it passes cut into an obstacle between samples, the failure the paper's dense check
     catches (Table IV). Our closed-loop rule: the policy never returns such a plan (it counts it rejected)."""
     from navlab.hj.lattice_policy import LatticePolicy
-    from navlab.sim.receding_horizon import Observation
+    from navlab.hj.receding_horizon import Observation
 
     rng = np.random.default_rng(0)
     grazing = []

@@ -10,6 +10,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from navlab.core.io import DataError
+from navlab.hj.grids import build_hj_grids, load_human_brt, load_static_brt, load_ttr
 from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, ttr_heuristic
 from navlab.hj.planning import Planner, heading_tasks, lattice_spec
 from navlab.hj.pruners import (
@@ -21,7 +22,6 @@ from navlab.hj.pruners import (
     static_prune_reference,
 )
 from navlab.maps.rooms import Disc, Room
-from navlab.reach.precompute import build_hj_grids, load_human_brt, load_static_brt, load_ttr
 from navlab.search.dubins_lattice import (
     LatticeSpec,
     densify,
@@ -513,11 +513,11 @@ def test_a_reversing_car_backs_out_of_a_dead_end():
 
 
 def test_the_forward_only_car_is_a_params_variant(smoke_params, tmp_path):
-    """``reach.precompute.forward_only``: hj.grids.robot.v_min = 0 with the lattice's levels and every grid's
+    """``hj.grids.forward_only``: hj.grids.robot.v_min = 0 with the lattice's levels and every grid's
     speed axis cut to [0, v_max] at the same spacing (9 levels 0.125 m/s apart); its two TTRs are built beside
     the paper's car's grids, under an artefact root of the same layout, only while the car reverses. A
     speed_levels that does not fit the new range is refused with the lattice's message."""
-    from navlab.reach.precompute import _builds, forward_only, forward_only_root, specs
+    from navlab.hj.grids import _builds, forward_only, forward_only_root, specs
 
     forward = forward_only(smoke_params)
     spec = lattice_spec(forward)

@@ -11,6 +11,7 @@ import pytest
 from navlab.hj.claims import CLAIMS
 from navlab.hj.paper import PAPER
 from navlab.hj.planning import TaskResult
+from navlab.hj.receding_horizon import Run, Trip
 from navlab.hj.state_lattice_runs import (
     DIJKSTRA,
     DIST,
@@ -21,7 +22,6 @@ from navlab.hj.state_lattice_runs import (
     settings_of,
 )
 from navlab.hj.tables import PAPER_CALLS, table1, table2, table5, table6, table7, table8, table9
-from navlab.sim.receding_horizon import Run, Trip
 
 EXCESS = {"starts": 3, "over": 1, "max_excess_s": 0.25}
 
@@ -92,8 +92,8 @@ def test_table1_same_cost_does_not_hold_when_one_task_differs(smoke_params):
 
 def test_table1_tasks_on_the_state_lattice(smoke_params, tmp_path):
     """Table I's smoke task set: every method plans, and both A* return Dijkstra's cost on every task."""
+    from navlab.hj.grids import build_hj_grids
     from navlab.hj.state_lattice_runs import run_table, same_cost
-    from navlab.reach.precompute import build_hj_grids
 
     build_hj_grids(smoke_params, "unused", tmp_path, progress=False, log=lambda m: None)
     runs = run_table(smoke_params, tmp_path, smoke_params.hj.planner.table1)

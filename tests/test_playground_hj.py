@@ -17,8 +17,8 @@ from matplotlib.backend_bases import MouseEvent
 
 from navlab.core.io import DataError
 from navlab.core.params import ParamsError
-from navlab.reach.brt_margin import build_brt_margins
-from navlab.reach.precompute import build_hj_grids
+from navlab.hj.brt_margin import build_brt_margins
+from navlab.hj.grids import build_hj_grids
 from navlab.viz.playground.common import ERROR_MARK
 from navlab.viz.playground.hj import MAX_HUMANS, HJPlayground, HJView, Human, walk_goal
 

@@ -5,11 +5,11 @@ import math
 import pytest
 import torch
 
+from navlab.hj.reachability import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
 from navlab.reach.dynamics import DubinsCar4D
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend, solve
-from navlab.reach.value_functions import avoid_tube, disk_signed_distance, general_ttr, time_to_reach
 from reach_dynamics_support import DoubleIntegrator, SingleIntegrator, SingleIntegratorPursuitEvasion
 
 pytestmark = pytest.mark.usefixtures("single_thread")

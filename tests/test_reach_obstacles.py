@@ -5,10 +5,10 @@ import math
 import pytest
 import torch
 
+from navlab.hj.reachability import time_to_reach
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend
-from navlab.reach.value_functions import time_to_reach
 from reach_dynamics_support import SingleIntegrator
 
 pytestmark = pytest.mark.usefixtures("single_thread")

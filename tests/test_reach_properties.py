@@ -6,11 +6,11 @@ import math
 import pytest
 import torch
 
+from navlab.hj.reachability import disk_signed_distance, general_ttr, human_brt, static_brt
 from navlab.reach.dynamics import DubinsCar4D, HumanRobotRelative
 from navlab.reach.grid import Grid
 from navlab.reach.settings import SolverSettings
 from navlab.reach.solver import Backend
-from navlab.reach.value_functions import disk_signed_distance, general_ttr, human_brt, static_brt
 from reach_support import interpolate
 
 pytestmark = pytest.mark.usefixtures("single_thread")

@@ -55,8 +55,9 @@ def artifact_stage(name: str, params: tuple[str, ...], inputs: tuple[str, ...], 
 
 @dataclasses.dataclass(frozen=True)
 class Figure:
-    """A reproduced figure the results page shows: ``path`` under reports/, its caption (with the paper's figure
-    number), and the table it sits beside (``beside``, a table id; "" at the head of the paper's section)."""
+    """A reproduced figure the results page shows: ``path`` under reports/ (a PNG or GIF, or an HTML scene the page
+    links), its caption (with the paper's figure number), and the table it sits beside (``beside``, a table id;
+    "" at the head of the paper's section)."""
 
     path: str
     caption: str

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from navlab.hj.paper import bootstrap_mean, wilson
-from navlab.sim.receding_horizon import Run
+from navlab.hj.receding_horizon import Run
 
 PAPER = {
     "table6_dynamic": [

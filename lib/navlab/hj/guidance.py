@@ -2,7 +2,7 @@
 
 - ``dist_heuristic``: general Dist, max(|p − goal| − tol, 0) / v_max (admissible: the car is never faster);
 - ``map_dist_heuristic``: map-based Dist, the obstacle-aware shortest path / v_max from an 8-connected
-  Dijkstra (``reach.heuristics.geodesic_time_field``). Kept admissible by construction: the raster is
+  Dijkstra (``geodesic_time_field``, the field Fig. 2 plots; ``euclidean_time`` is general Dist's). Kept admissible by construction: the raster is
   inflated by ``radius − res·√2/2`` only (every cell a feasible centre passes through stays free), the
   octile length is divided by 1/cos(22.5°) (its worst excess over Euclidean), and res·√2 plus the goal
   tolerance is taken off before dividing by v_max;
@@ -20,14 +20,44 @@ import math
 
 import numpy as np
 from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
 
+from navlab.core.grid import RasterFrame
 from navlab.maps.rooms import Room
-from navlab.reach.heuristics import geodesic_time_field
 from navlab.reach.lookup import MapTTRLookup, TTRLookup
 from navlab.search.lattice_fields import H_DIST, H_GOAL_GRID, H_RASTER, H_ROOM_GRID, GridField
 from navlab.search.lattice_search import Heuristic
 
 OCTILE_EXCESS = 1.0 / math.cos(math.pi / 8)  # max octile / Euclidean length ratio of an 8-connected path
+
+
+def euclidean_time(xy: np.ndarray, goal_xy, v_max: float) -> np.ndarray:
+    """General Dist: |p - goal| / v_max for (..., 2) positions."""
+    return np.linalg.norm(np.asarray(xy, float) - np.asarray(goal_xy, float), axis=-1) / v_max
+
+
+def geodesic_time_field(room: Room, goal_xy, v_max: float, robot_radius: float,
+                        resolution: float = 0.05) -> tuple[np.ndarray, RasterFrame]:
+    """Map-based Dist on the room raster: shortest free path to the goal / v_max (inf where unreachable)."""
+    blocked, frame = room.occupancy(resolution, robot_radius)
+    goal_rc = tuple(frame.world_to_cell(np.asarray(goal_xy, float)))
+    if not frame.contains(np.array(goal_rc)) or blocked[goal_rc]:
+        raise ValueError(f"geodesic_time_field: goal {tuple(goal_xy)} is outside {room.name} or inside an obstacle")
+    rows, cols = frame.shape
+    ids = np.arange(rows * cols).reshape(rows, cols)
+    src, dst, w = [], [], []
+    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        a = ids[max(0, -dr):rows - max(0, dr), max(0, -dc):cols - max(0, dc)]
+        b = ids[max(0, dr):rows - max(0, -dr), max(0, dc):cols - max(0, -dc)]
+        ok = ~blocked.ravel()[a.ravel()] & ~blocked.ravel()[b.ravel()]
+        src.append(a.ravel()[ok])
+        dst.append(b.ravel()[ok])
+        w.append(np.full(ok.sum(), np.hypot(dr, dc) * resolution))
+    graph = coo_matrix((np.concatenate(w), (np.concatenate(src), np.concatenate(dst))),
+                       shape=(rows * cols,) * 2).tocsr()
+    dist = dijkstra(graph, directed=False, indices=ids[goal_rc])
+    return dist.reshape(rows, cols) / v_max, frame
 
 
 def grid_field(values: np.ndarray, grid) -> GridField:

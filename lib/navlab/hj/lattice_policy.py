@@ -102,6 +102,7 @@ import numpy as np
 
 from navlab.hj.planning import plan_clearance
 from navlab.hj.pruners import FIParams, clearance_field, human_pruner, obs_pruner
+from navlab.hj.receding_horizon import Evasion
 from navlab.maps.rooms import Room
 from navlab.reach.lookup import HumanBRTLookup
 from navlab.search.dubins_lattice import LatticeSpec, first_step, integrate, place, primitive_table
@@ -119,7 +120,6 @@ from navlab.search.lattice_search import (
     resume,
     search,
 )
-from navlab.sim.receding_horizon import Evasion
 
 HUMAN_MODES = ("fi", "fs", "obs", "none")
 
@@ -186,7 +186,7 @@ class LatticePolicy:
             raise ValueError(f"human_mode {self.human_mode!r}: use one of {', '.join(HUMAN_MODES)}")
         if self.human_mode in ("fi", "fs") and self.human_brt is None:
             raise ValueError(f"human_mode {self.human_mode!r} needs the human-robot BRT: load it with "
-                             f"reach.precompute.load_human_brt (built by `dvc repro hj_grids`)")
+                             f"hj.grids.load_human_brt (built by `dvc repro hj_grids`)")
         if self.human_mode == "obs" and self.static.name != "OBS":
             raise ValueError("human_mode 'obs' adds the humans to the OBS clearance field: pass an OBS static "
                              "pruner (hj.pruners.obs_pruner)")
@@ -371,7 +371,7 @@ class LatticePolicy:
 
     def _brakes_clear(self, states: np.ndarray) -> bool:
         """Braking straight to a stop from each of ``states`` stays clear of the walls: the lattice's lowest
-        acceleration (ω = 0) going forwards, its highest reversing (the simulator's fallback, ``sim.receding_horizon``)."""
+        acceleration (ω = 0) going forwards, its highest reversing (the simulator's fallback, ``hj.receding_horizon``)."""
         stops = []
         for s in states:
             if s[2] != 0.0:

@@ -27,11 +27,11 @@ from pathlib import Path
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.hj.brt_margin import measure_static_brt_margin
+from navlab.hj.grids import load_map_ttr, load_static_brt, load_ttr
 from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, map_ttr_heuristic, ttr_heuristic
 from navlab.hj.pruners import clearance_field, obs_point_pruner, obs_pruner, static_brt_pruner
 from navlab.maps.rooms import Room, load_room
-from navlab.reach.brt_margin import measure_static_brt_margin
-from navlab.reach.precompute import load_map_ttr, load_static_brt, load_ttr
 from navlab.search.dubins_lattice import LatticeSpec, densify, primitive_table
 from navlab.search.lattice_fields import GridField
 from navlab.search.lattice_search import (
@@ -126,12 +126,12 @@ class Planner:
     @functools.cached_property
     def _brt(self):
         """The room's static BRT, read on first use: the forward-only car's rows (Tables I-II) prune with OBS
-        and have no BRT of their own (``reach.precompute.forward_only``)."""
+        and have no BRT of their own (``hj.grids.forward_only``)."""
         return load_static_brt(self.params, self.artifacts_dir, self.room.name)
 
     @property
     def margin(self) -> float:
-        """Eq. 12's margin m of the BRT pruner, measured on first use (``reach.brt_margin``, cached by the
+        """Eq. 12's margin m of the BRT pruner, measured on first use (``hj.brt_margin``, cached by the
         ``hj_margins`` stage) unless the constructor was given one."""
         if self._margin is None:
             self.margin_report = measure_static_brt_margin(self.params, self.artifacts_dir, self.room.name,

@@ -24,8 +24,8 @@ def grid_problems(params: Params, notes: list[str]) -> list[str]:
     """HJ grids: each solve's working set on hj.grids.device, all stored grids held at once by the planner,
     and the finer BRT solve that measures the stored grid's margin (always on the CPU), against the budgets."""
     from navlab.core.params import ParamsError
-    from navlab.reach.brt_margin import refined_grid
-    from navlab.reach.precompute import specs
+    from navlab.hj.brt_margin import refined_grid
+    from navlab.hj.grids import specs
 
     g = params.hj.grids
     try:
@@ -54,6 +54,6 @@ def grid_problems(params: Params, notes: list[str]) -> list[str]:
                         f"{budget_gib(params, 'cpu'):g} GiB RAM budget")
     if fine_gib > budget_gib(params, "cpu"):
         problems.append(f"hj.planner.brt_margin_refine = {list(refine)}: the margin's refined static BRT "
-                        f"{list(fine.shape)} needs ~{fine_gib:.1f} GiB on the CPU (reach.brt_margin solves there), "
+                        f"{list(fine.shape)} needs ~{fine_gib:.1f} GiB on the CPU (hj.brt_margin solves there), "
                         f"over the {budget_gib(params, 'cpu'):g} GiB budget")
     return problems

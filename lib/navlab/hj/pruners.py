@@ -15,7 +15,7 @@ expansion (the paper's Table VII: 140 states per call) and drops a successor whe
   plan it passes may graze an obstacle between samples; the paper's dense feasibility check
   (``hj.planning.plan_clearance``) then counts it as a failure (Sec. VII-B, Fig. 7);
 - ``static_brt_pruner``: the static-map BRT value must be > ``margin``, a margin measured against a finer
-  solve (``reach.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
+  solve (``hj.brt_margin``), so that the grid's discretisation error never lets an unsafe state pass;
 - ``human_pruner``: the human-robot BRT with the humans fixed at their observed positions (prediction
   free). ``"fs"`` prunes V < m; ``"fi"`` prunes that and, with the finite difference of Eq. 15 over the
   step Δt, (V(s') − V(s)) / Δt < −γ (V(s') − m), γ adapted by Eq. 16-18 between γ_min and γ_max. FS is

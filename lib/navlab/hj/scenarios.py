@@ -2,7 +2,7 @@
 VIII-C Table IX), built from params.yaml ``hj.dynamic``.
 
 Each function sets up one run — room, start, goals, humans, heuristic, pruners — and drives the
-receding-horizon loop (``sim.receding_horizon.run_patrol``) with the HJ-guided lattice planner as the
+receding-horizon loop (``hj.receding_horizon.run_patrol``) with the HJ-guided lattice planner as the
 policy (``hj.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sensing noise from
 ``hj.dynamic.seed + r``, so every cell is reproducible and the methods of one table see the same draws
 (in Table VI, noise-free like the paper's simulation, the draw is where along its line the human starts).
@@ -14,7 +14,7 @@ policy (``hj.lattice_policy.LatticePolicy``). Run ``r`` of a cell draws its sens
 - Table VIII (``room_patrol``): no humans; the Long Hallway and Dense Room patrols with the four
   heuristic x static-pruner combinations (Dist/TTR x OBS/static BRT with its measured margin).
 - Table IX (``human_patrol``): 1 or 2 humans patrolling their points of interest under the paper's three
-  rules (``sim.humans.PatrolHuman``) while the robot patrols its goals, for three patrol cycles.
+  rules (``hj.humans.PatrolHuman``) while the robot patrols its goals, for three patrol cycles.
 
 ``run_cells`` runs many such runs in worker processes: a run is a pure function of its arguments and its
 seed (the planner's wall time is recorded, never simulated), so no result depends on how many.
@@ -31,14 +31,14 @@ from pathlib import Path
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.hj.grids import load_human_brt, load_ttr
 from navlab.hj.guidance import dist_heuristic, ttr_heuristic
+from navlab.hj.humans import HumanStream, PatrolHuman, StraightWalker
 from navlab.hj.lattice_policy import LatticePolicy
 from navlab.hj.planning import Planner, lattice_spec
 from navlab.hj.pruners import FIParams, obs_point_pruner
+from navlab.hj.receding_horizon import Run, SimSettings, run_patrol
 from navlab.maps.rooms import Room, load_room
-from navlab.reach.precompute import load_human_brt, load_ttr
-from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
-from navlab.sim.receding_horizon import Run, SimSettings, run_patrol
 
 HUMAN_ROWS = {"FI-BRT": "fi", "FS-BRT": "fs", "OBS": "obs"}  # Tables VI and IX, the paper's rows -> LatticePolicy mode
 ROOM_COMBOS = (("Dist", "OBS"), ("Dist", "BRT"), ("TTR", "OBS"), ("TTR", "BRT"))  # Table VIII rows
@@ -95,7 +95,7 @@ class ClosedLoop:
                            human_speed=h.speed, v_min=self.robot.v_min, a_max=self.robot.accel_max)
 
     def rules(self) -> str:
-        """The loop's rules beyond the paper's text (hj.lattice_policy, sim.receding_horizon), for the reports."""
+        """The loop's rules beyond the paper's text (hj.lattice_policy, hj.receding_horizon), for the reports."""
         c = self.d.closed_loop
         keep = (f"a re-plan out of budget keeps the car's current plan if its next 2 s re-check collision-free (and pass "
                 f"the human pruner), and so does one whose new plan arrives less than {c.plan_switch_gain_s:g} s sooner "

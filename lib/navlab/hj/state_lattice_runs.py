@@ -22,12 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from navlab.core.params import Params
+from navlab.hj.grids import load_ttr
 from navlab.hj.guidance import ttr_heuristic
 from navlab.hj.planning import heading_tasks
 from navlab.hj.pruners import clearance_field, field_error
 from navlab.maps.rooms import load_room
 from navlab.reach.lookup import TTRLookup
-from navlab.reach.precompute import load_ttr
 from navlab.search.lattice_fields import wrap
 from navlab.search.state_lattice import (
     ANGLES,

@@ -33,9 +33,9 @@ from tqdm.auto import tqdm
 from navlab.core.fingerprint import code_fingerprint, files_fingerprint
 from navlab.core.io import write_json
 from navlab.core.params import Params
+from navlab.hj.brt_margin import MARGINS_SUBDIR
 from navlab.hj.closed_loop import summarise_runs, summarise_trips
 from navlab.hj.scenarios import HUMAN_ROWS, ROOM_COMBOS, ROOM_NAMES, ClosedLoop
-from navlab.reach.brt_margin import MARGINS_SUBDIR
 
 SWEEP_SUBDIR = "hj_sensitivity"
 

@@ -23,12 +23,12 @@ from navlab.hj.paper import (
     failure_modes,
     summarise,
 )
+from navlab.hj.receding_horizon import Run
 from navlab.hj.scenarios import ROOM_NAMES
 from navlab.hj.sensitivity import BUDGET_COLUMNS, LOOP_COLUMNS, budget_rows, loop_rows
 from navlab.hj.state_lattice_runs import TTR, StateLatticeRuns
 from navlab.metrics.claims import Claim
 from navlab.metrics.tables import Table
-from navlab.sim.receding_horizon import Run
 
 TABLE7_COLUMNS = ["component", "states", "total_s", "per_call_us", "per_state_ns", "in_search_total_s",
                   "in_search_evaluated_states", "in_search_per_state_ns", "in_search_cpu_per_state_ns",
@@ -42,7 +42,7 @@ TABLE6_COLUMNS = ["method", "scenario", "success", "runs", "success_rate", "succ
 
 
 FORWARD_ONLY_NOTE = ("Rows 'forward-only car (ours)': the old default, v in [0, v_max] in the lattice (the same "
-                     "speed spacing) with its own TTR grid (reach.precompute.forward_only), the paper's OBS check.")
+                     "speed spacing) with its own TTR grid (hj.grids.forward_only), the paper's OBS check.")
 PRUNER_NOTE = ("OBS is the paper's conventional instantaneous check (clearance at the states the search samples, 4 "
                "per 0.5 s step), BRT the static BRT there (Eq. 12); a plan either passes that grazes an obstacle "
                "between samples fails the paper's dense check (8 points per sample under the dynamics) and counts as "

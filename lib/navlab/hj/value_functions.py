@@ -15,9 +15,9 @@ import numpy as np
 
 from navlab.core.grid import RasterFrame
 from navlab.hj.claims import FORWARD_ONLY, fig2_claims, fig2_forward_only_check, fig3_claims
+from navlab.hj.guidance import euclidean_time
 from navlab.hj.paper import PAPER
 from navlab.metrics.tables import Table
-from navlab.reach.heuristics import euclidean_time
 
 FIG2_COLUMNS = ["heading", "map_ttr_s", "general_ttr_s", "map_dist_s", "general_dist_s"]
 FIG3_COLUMNS = ["speed", "unsafe_fraction"]  # speed as text ("0.33 m/s"): the row's key
@@ -28,7 +28,7 @@ HEURISTICS = {"map TTR": "map_ttr_s", "general TTR": "general_ttr_s", "map Dist"
 def heuristic_values(robots: Sequence[tuple[float, float, float, float]], goal_xy, ttr: Callable, map_ttr: Callable,
                      geodesic: tuple[np.ndarray, RasterFrame], v_max: float) -> dict[tuple[int, str], float]:
     """{(robot index, heuristic): seconds to the goal} for the four heuristics of Fig. 2: map TTR (``map_ttr``,
-    for this goal), general TTR (``ttr``), map Dist (``geodesic``: ``reach.heuristics.geodesic_time_field``'s
+    for this goal), general TTR (``ttr``), map Dist (``geodesic``: ``hj.guidance.geodesic_time_field``'s
     field and frame) and general Dist (straight line / v_max)."""
     field, frame = geodesic
     values = {}
@@ -46,7 +46,7 @@ def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str],
                forward_only: Mapping[tuple[int, str], float]) -> Table:
     """Fig. 2's values, one row per robot heading (the upward one first, then the reversed one, as the paper's
     two rows), beside the paper's seconds, and Sec. VI-A's statements decided on them; then the forward-only
-    car's two rows (``forward_only``: ``heuristic_values`` on its TTR grids, ``reach.precompute.forward_only``),
+    car's two rows (``forward_only``: ``heuristic_values`` on its TTR grids, ``hj.grids.forward_only``),
     a labelled variant with our own check. ``slack_s``: the goal disc's radius / v_max (the TTR is the time to
     the disc, Dist to its centre)."""
     def rows_of(vals, suffix=""):

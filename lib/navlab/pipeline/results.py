@@ -209,6 +209,9 @@ def _checks_table(checks: list[tuple[str, Claim]]) -> list[str]:
 
 
 def _figure_markdown(figure: Figure) -> str:
+    """An image, or a link where the figure is an interactive HTML scene (a page cannot embed it)."""
+    if figure.path.endswith(".html"):
+        return f"[{figure.caption}]({figure.path}): open the file in a browser.\n"
     return f"![{figure.caption}]({figure.path})\n\n*{figure.caption}*\n"
 
 

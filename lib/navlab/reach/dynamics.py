@@ -96,7 +96,7 @@ class DubinsCar4D(Dynamics):
     a_max: float
     omega_max: float
     control_mode: Mode = "max"
-    v_min: float = 0.0  # reach.precompute passes hj.grids.robot.v_min
+    v_min: float = 0.0  # navlab.hj.grids passes hj.grids.robot.v_min
     state_names = ("x", "y", "v", "theta")
 
     def __post_init__(self):

@@ -20,10 +20,10 @@ from meshcat import transformations as tf
 from meshcat.animation import Animation
 
 from navlab.core.io import atomic_path
+from navlab.hj.receding_horizon import Run
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.reach.lookup import HumanBRTLookup
 from navlab.search.dubins_lattice import LatticeSpec, densify
-from navlab.sim.receding_horizon import Run
 from navlab.viz.meshcat_html import add_box, add_cylinder, offline_visualizer
 
 COLORS = {"FI-BRT": "tab:blue", "FS-BRT": "tab:orange", "OBS": "tab:red", "Dist + OBS": "tab:red",

@@ -1,4 +1,5 @@
-"""Matplotlib figures in the style of the HJ-search paper: heuristic contours (Fig. 2), BRT slices (Fig. 3)."""
+"""Matplotlib figures in the style of the HJ-search paper: heuristic contours (Fig. 2), BRT slices (Fig. 3), the
+human-robot BRT in the robot's frame."""
 
 from __future__ import annotations
 
@@ -20,6 +21,31 @@ def draw_room(ax, room: Room, color: str = "0.3") -> None:
     ax.set_xlim(-0.1, room.width + 0.1)
     ax.set_ylim(-0.1, room.height + 0.1)
     ax.set_aspect("equal")
+
+
+def heuristic_fields(room: Room, goal, robots: list[tuple[float, float, float, float]], ttr, map_ttr,
+                     geodesic: tuple[np.ndarray, object], robot_radius: float, v_max: float) -> dict:
+    """Fig. 2's four heuristics over the room's free positions, as ``heuristic_contours`` takes them: the two
+    TTRs at each robot's speed and heading (one field per robot), map Dist (``geodesic``: the field and frame of
+    ``hj.guidance.geodesic_time_field``, whose cell centres are the plotted positions) and general Dist."""
+    from navlab.hj.guidance import euclidean_time
+
+    geo, frame = geodesic
+    rows, cols = geo.shape
+    X, Y = np.meshgrid(frame.origin[0] + (np.arange(cols) + 0.5) * frame.resolution,
+                       frame.origin[1] + (np.arange(rows) + 0.5) * frame.resolution, indexing="xy")
+    free = room.signed_distance(X, Y, robot_radius) > 0
+
+    def at(lookup, v, theta):
+        states = np.stack([X.ravel(), Y.ravel(), np.full(X.size, v), np.full(X.size, theta)], -1)
+        return np.where(free, lookup(states).reshape(X.shape), np.nan)
+
+    return {
+        "map TTR": [(X, Y, at(map_ttr, v, th)) for (_, _, v, th) in robots],
+        "general TTR": [(X, Y, at(lambda s: ttr(s, goal), v, th)) for (_, _, v, th) in robots],
+        "map Dist": (X, Y, np.where(free, geo, np.nan)),
+        "general Dist": (X, Y, np.where(free, euclidean_time(np.stack([X, Y], -1), goal, v_max), np.nan)),
+    }
 
 
 def heuristic_contours(room: Room, fields: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]],
@@ -63,4 +89,24 @@ def brt_slices(room: Room, values: np.ndarray, grid, speeds, theta: float, speed
         ax.contour(X, Y, speed_slice(values, grid, v)[:, :, th_idx], levels=[0.0], colors=[color])
     draw_room(ax, room)
     ax.set_title(f"zero level sets, θ = {np.degrees(theta):.0f}°", fontsize=9)
+    return fig
+
+
+def human_brt_figure(human, v_max: float, horizon_s: float):
+    """The human-robot BRT's zero level set in the robot's frame (x ahead, y left) at three robot speeds from 0
+    to ``v_max``: where the pursuing human can force a collision within the horizon (``human``: a
+    ``reach.lookup.HumanBRTLookup``; its speed axis starts at v_min, below 0 for the reversing car)."""
+    values, grid = np.asarray(human.stored.values), human.grid
+    PX, PY = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
+    fig, ax = plt.subplots(figsize=(4.5, 4.2), constrained_layout=True)
+    for v, color in zip(np.linspace(0, v_max, 3), ["tab:blue", "tab:orange", "tab:red"]):
+        iv = round((v - grid.lo[2]) / grid.spacing[2])
+        ax.contour(PX, PY, values[:, :, iv], levels=[0.0], colors=[color])
+        ax.plot([], [], color=color, label=f"v = {grid.axis(2)[iv]:.2f} m/s")
+    ax.arrow(0, 0, 0.4, 0, width=0.05, color="k")
+    ax.set_aspect("equal")
+    ax.legend(fontsize=8)
+    ax.set_xlabel("human ahead (m)")
+    ax.set_ylabel("human left (m)")
+    ax.set_title(f"human-robot BRT, horizon {horizon_s} s", fontsize=9)
     return fig

@@ -2,7 +2,7 @@
 
 `hj.grids` fixes everything the precomputed value functions depend on: the robot and human models, the
 solver scheme, and per value function the grid shape, extent and horizon. The grids are rebuilt by the
-`hj_grids` DVC stage whenever this section changes (their metadata records it; see reach.precompute).
+`hj_grids` DVC stage whenever this section changes (their metadata records it; see navlab.hj.grids).
 """
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ Point = tuple[float, ...]
 
 @section
 class ClosedLoopParams:
-    """The receding-horizon loop (sim.receding_horizon.SimSettings) and the planner budget per re-plan."""
+    """The receding-horizon loop (hj.receding_horizon.SimSettings) and the planner budget per re-plan."""
 
     replan_hz: Annotated[float, between(0.1, 100.0)]  # paper Sec. VIII-A: 12 Hz
     control_hz: Annotated[float, between(0.1, 1000.0)]  # paper: 25 Hz

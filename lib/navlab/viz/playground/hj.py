@@ -6,7 +6,7 @@ speed, the TTR heuristic to the goal, the static BRT and the human-robot BRT sli
 (status, expansions, search time) and which successors each pruner removes; a button runs the closed loop
 for a few simulated seconds and plays it back. Everything is computed by the library the HJ notebooks use:
 ``hj.scenarios.ClosedLoop`` (heuristics, pruners with the measured BRT margin, the receding-horizon
-policy), ``search.lattice_search.search``, ``hj.pruners.human_pruner``, ``sim.receding_horizon.run_patrol``
+policy), ``search.lattice_search.search``, ``hj.pruners.human_pruner``, ``hj.receding_horizon.run_patrol``
 and ``viz.hj_closed_loop.patrol_gif``. This module keeps the choices, checks them and caches what they give.
 
 Why a census of removed successors and not the search's own: the compiled search counts expansions but
@@ -37,12 +37,14 @@ from matplotlib.figure import Figure
 
 from navlab.core.io import DataError
 from navlab.core.params import Params, load_params
+from navlab.hj.brt_margin import MARGINS_SUBDIR
+from navlab.hj.grids import grid_path, load_human_brt, load_static_brt, specs
+from navlab.hj.humans import StraightWalker
 from navlab.hj.planning import plan_clearance, random_pairs
 from navlab.hj.pruners import human_pruner
+from navlab.hj.receding_horizon import Run, Trip, run_patrol
 from navlab.hj.scenarios import ClosedLoop
 from navlab.maps.rooms import Room, load_room
-from navlab.reach.brt_margin import MARGINS_SUBDIR
-from navlab.reach.precompute import grid_path, load_human_brt, load_static_brt, specs
 from navlab.search.dubins_lattice import place, primitive_table
 from navlab.search.lattice_search import (
     NO_HUMAN,
@@ -53,8 +55,6 @@ from navlab.search.lattice_search import (
     StaticPruner,
     search,
 )
-from navlab.sim.humans import StraightWalker
-from navlab.sim.receding_horizon import Run, Trip, run_patrol
 from navlab.viz.hj_closed_loop import patrol_gif
 from navlab.viz.hj_scenes import brt_scene_html
 from navlab.viz.playground.common import (

@@ -26,12 +26,12 @@ import numpy as np
 from navlab.core.fingerprint import code_fingerprint
 from navlab.core.io import sha256_json, write_json
 from navlab.core.params import Params
+from navlab.hj.grids import _car, _settings, load_static_brt, room_obstacle_distance
 from navlab.maps.rooms import load_room
 from navlab.reach.grid import Grid
-from navlab.reach.precompute import _car, _settings, load_static_brt, room_obstacle_distance
 from navlab.reach.solver import Backend
 
-CODE = ("navlab.reach.brt_margin",)  # and every navlab module it imports (core.fingerprint)
+CODE = ("navlab.hj.brt_margin",)  # and every navlab module it imports (core.fingerprint)
 MARGINS_SUBDIR = "hj_margins"
 
 
@@ -80,7 +80,7 @@ def measure_static_brt_margin(params: Params, artifacts_dir: str | Path, room_na
         if cached.get("key") == sha256_json(key):
             log(f"[brt_margin] {room_name}: cached ({cache})")
             return cached["result"]
-    from navlab.reach.value_functions import static_brt
+    from navlab.hj.reachability import static_brt
 
     g = params.hj.grids
     fine_grid = refined_grid(lookup.grid, tuple(refine))

@@ -10,9 +10,9 @@ from navlab.hj.guidance import dist_heuristic
 from navlab.hj.lattice_policy import LatticePolicy
 from navlab.hj.planning import lattice_spec
 from navlab.hj.pruners import obs_pruner
+from navlab.hj.receding_horizon import Evasion, Observation
 from navlab.maps.rooms import load_room
 from navlab.search.dubins_lattice import densify, first_step, integrate
-from navlab.sim.receding_horizon import Evasion, Observation
 
 ROBOT_R, HUMAN_R = 0.285, 0.3
 START, GOAL, HUMAN = np.array([0.6, 4.6, 0.0, 0.0]), (3.8, 4.6), np.array([[2.2, 5.0]])

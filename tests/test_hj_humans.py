@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
+from navlab.hj.humans import HumanStream, PatrolHuman, StraightWalker
+from navlab.hj.receding_horizon import SimSettings, run_patrol
 from navlab.maps.rooms import load_room
-from navlab.sim.humans import HumanStream, PatrolHuman, StraightWalker
-from navlab.sim.receding_horizon import SimSettings, run_patrol
 
 
 class PursuitPlanner:
@@ -72,7 +72,7 @@ def test_a_stream_waits_to_spawn_while_the_robot_is_at_its_start():
 def test_human_tracks_estimate_velocity_through_noise_and_restart_on_a_jump():
     """Over 0.5 s, 5 cm of position noise leaves ~0.14 m/s of velocity error (a two-point difference at
     12 Hz: ~0.85 m/s); a human reappearing 4.6 m away starts a new track instead of a 9 m/s estimate."""
-    from navlab.sim.receding_horizon import HumanTracks
+    from navlab.hj.receding_horizon import HumanTracks
 
     rng, tracks, errors = np.random.default_rng(0), HumanTracks(0.5, 0.8), []
     for k in range(120):

@@ -102,7 +102,7 @@ def ttr_spec(params: Params) -> GridSpec:
               "solver": _asdict(g.solver), "ttr": _asdict(g.ttr)}
 
     def solve(backend):
-        from navlab.reach.value_functions import general_ttr
+        from navlab.hj.reachability import general_ttr
 
         values = general_ttr(_car(params), grid, g.ttr.goal_radius_m, g.ttr.horizon_s, _settings(params),
                              stall_time=g.ttr.stall_s, backend=backend)
@@ -133,7 +133,7 @@ def static_brt_spec(params: Params, room_name: str) -> GridSpec:
               "room": json_ready(dataclasses.asdict(room))}
 
     def solve(backend):
-        from navlab.reach.value_functions import static_brt
+        from navlab.hj.reachability import static_brt
 
         b = g.static_brt
         sol = static_brt(room_obstacle_distance(room, grid), _car(params), grid, robot_radius=g.robot.radius_m,
@@ -160,7 +160,7 @@ def human_brt_spec(params: Params) -> GridSpec:
               "human": _asdict(g.human), "solver": _asdict(g.solver), "human_brt": _asdict(h)}
 
     def solve(backend):
-        from navlab.reach.value_functions import human_brt
+        from navlab.hj.reachability import human_brt
 
         values = human_brt(_relative(params), grid, collision_radius=g.robot.radius_m + g.human.radius_m,
                            horizon=h.horizon_s, settings=_settings(params), backend=backend)
@@ -184,7 +184,7 @@ def map_ttr_spec(params: Params) -> GridSpec:
               "room": json_ready(dataclasses.asdict(room))}
 
     def solve(backend):
-        from navlab.reach.value_functions import map_ttr
+        from navlab.hj.reachability import map_ttr
 
         values = map_ttr(_car(params), grid, room_obstacle_distance(room, grid), g.map_ttr.goal_xy,
                          g.ttr.goal_radius_m, g.robot.radius_m, g.ttr.horizon_s, _settings(params),

@@ -15,14 +15,14 @@ from navlab.hj.closed_loop import (
     summarise_runs,
     summarise_trips,
 )
+from navlab.hj.grids import grid_path, human_brt_spec
 from navlab.hj.pruners import obs_pruner
+from navlab.hj.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 from navlab.hj.scenarios import ClosedLoop, cyclic_goals, run_cells, start_state
 from navlab.maps.rooms import load_room
-from navlab.reach.precompute import grid_path, human_brt_spec
 from navlab.reach.solver import Backend
 from navlab.reach.store import save_grid
 from navlab.search.lattice_search import NO_HUMAN, NO_STATIC, Budget, Goal, Pruners, search
-from navlab.sim.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 
 
 @pytest.fixture(scope="module")
@@ -196,7 +196,7 @@ def test_a_new_plan_replaces_a_safe_one_only_if_it_arrives_sooner(loop):
 def test_a_contact_counts_as_on_plan_only_while_a_plan_is_in_force():
     """A human walking into a braked car is no pruner's miss; the car driving its plan into one is."""
     from navlab.hj.closed_loop import contacts_on_plan
-    from navlab.sim.humans import StraightWalker
+    from navlab.hj.humans import StraightWalker
 
     room = load_room("open")
     settings = SimSettings(trip_timeout_s=3.0, deadlock_s=10.0)

@@ -8,8 +8,7 @@ import pytest
 import torch
 
 from navlab.core.io import DataError
-from navlab.maps.rooms import load_room
-from navlab.reach.precompute import (
+from navlab.hj.grids import (
     build_hj_grids,
     grid_path,
     load_human_brt,
@@ -19,6 +18,7 @@ from navlab.reach.precompute import (
     load_value_function,
     room_obstacle_distance,
 )
+from navlab.maps.rooms import load_room
 
 
 @pytest.fixture(scope="module")
