@@ -10,6 +10,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from navlab.core.io import DataError
+from navlab.core.params import ParamsError
 from navlab.hj.grids import build_hj_grids, load_human_brt, load_static_brt, load_ttr
 from navlab.hj.guidance import dist_heuristic, map_dist_heuristic, ttr_heuristic
 from navlab.hj.planning import Planner, heading_tasks, lattice_spec
@@ -536,3 +537,9 @@ def test_the_forward_only_car_is_a_params_variant(smoke_params, tmp_path):
     unfit = dataclasses.replace(forward, hj=dataclasses.replace(h, planner=smoke_params.hj.planner))  # 13 levels
     with pytest.raises(ValueError, match="is not a whole number of speed levels"):
         lattice_spec(unfit)
+    # an axis on which 0 m/s is no node cannot be cut at the same spacing: refused, naming the key
+    g = smoke_params.hj.grids
+    off = dataclasses.replace(smoke_params, hj=dataclasses.replace(smoke_params.hj, grids=dataclasses.replace(
+        g, ttr=dataclasses.replace(g.ttr, shape=(21, 21, 6, 12)))))
+    with pytest.raises(ParamsError, match=r"hj.grids.ttr.shape\[2\] = 6 speed points .* 0 m/s is not a node"):
+        forward_only(off)

@@ -383,7 +383,7 @@ FORWARD_ONLY = ", forward-only car (ours)"  # suffix of the forward-only car's v
 
 
 def reversing_checks(results: Mapping[str, Sequence], algorithm: str, seed: int) -> list[Claim]:
-    """Ours, where a table has the forward-only car's rows (``hj.grids.forward_only``): per heuristic,
+    """Ours, where a table has the forward-only car's rows (``navlab.hj.grids.forward_only``): per heuristic,
     the paper's reversing car's plans cost less than the forward-only car's, paired over the tasks both
     solved; what reversing buys the search the paper describes (Sec. VII-A, Fig. 6)."""
     out = []

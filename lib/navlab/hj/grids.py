@@ -202,9 +202,16 @@ def specs(params: Params) -> list[GridSpec]:
 FORWARD_ONLY = "forward_only"
 
 
-def _forward_points(n: int, v_min: float, v_max: float) -> int:
-    """Points of a speed axis cut from [v_min, v_max] (n points) to [0, v_max] at the same spacing."""
-    return round(v_max / ((v_max - v_min) / (n - 1))) + 1
+def _forward_points(n: int, v_min: float, v_max: float, key: str) -> int:
+    """Points of a speed axis cut from [v_min, v_max] (``n`` points) to [0, v_max] at the same spacing; 0 m/s
+    must be a node of the axis (``key``: its params.yaml key, named when it is not)."""
+    spacing = (v_max - v_min) / (n - 1)
+    below = -v_min / spacing
+    if abs(below - round(below)) > 1e-6:
+        raise ParamsError(f"{key} = {n} speed points over [{v_min:g}, {v_max:g}] m/s ({spacing:.4g} m/s apart): 0 m/s "
+                          f"is not a node, so the forward-only car's grids cannot keep the spacing; choose n with "
+                          f"(n - 1) * {-v_min:g} / {v_max - v_min:g} a whole number")
+    return round(v_max / spacing) + 1
 
 
 def forward_only(params: Params) -> Params:
@@ -214,13 +221,15 @@ def forward_only(params: Params) -> Params:
     g, lat = params.hj.grids, params.hj.planner.lattice
     v0, v1 = g.robot.v_min, g.robot.v_max
 
-    def cut(shape):
-        return (*shape[:2], _forward_points(shape[2], v0, v1), *shape[3:])
+    def cut(shape, key):
+        return (*shape[:2], _forward_points(shape[2], v0, v1, key), *shape[3:])
 
     grids = dataclasses.replace(
-        g, robot=dataclasses.replace(g.robot, v_min=0.0), ttr=dataclasses.replace(g.ttr, shape=cut(g.ttr.shape)),
-        static_brt=dataclasses.replace(g.static_brt, shape=cut(g.static_brt.shape)))
-    lattice = dataclasses.replace(lat, speed_levels=_forward_points(lat.speed_levels, v0, v1))
+        g, robot=dataclasses.replace(g.robot, v_min=0.0),
+        ttr=dataclasses.replace(g.ttr, shape=cut(g.ttr.shape, "hj.grids.ttr.shape[2]")),
+        static_brt=dataclasses.replace(g.static_brt, shape=cut(g.static_brt.shape, "hj.grids.static_brt.shape[2]")))
+    lattice = dataclasses.replace(
+        lat, speed_levels=_forward_points(lat.speed_levels, v0, v1, "hj.planner.lattice.speed_levels"))
     planner = dataclasses.replace(params.hj.planner, lattice=lattice)
     return dataclasses.replace(params, hj=dataclasses.replace(params.hj, grids=grids, planner=planner))
 

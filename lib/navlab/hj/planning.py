@@ -117,7 +117,7 @@ class Planner:
         self.table = primitive_table(self.spec)
         self.artifacts_dir = artifacts_dir
         self._ttr = load_ttr(params, artifacts_dir)
-        self._log, self._margin, self.margin_report = log, None if margin is None else float(margin), None
+        self._log, self._margin, self._margin_report = log, None if margin is None else float(margin), None
         self._obs = obs_pruner(self.room, self.robot.radius_m)  # swept
         self._obs_point = obs_point_pruner(self.room, self.robot.radius_m)
         self.costmap = Costmap(costmap_field(self.room, self.robot.radius_m, self.p.cost_decay_per_m),
@@ -126,7 +126,7 @@ class Planner:
     @functools.cached_property
     def _brt(self):
         """The room's static BRT, read on first use: the forward-only car's rows (Tables I-II) prune with OBS
-        and have no BRT of their own (``hj.grids.forward_only``)."""
+        and have no BRT of their own (``navlab.hj.grids.forward_only``)."""
         return load_static_brt(self.params, self.artifacts_dir, self.room.name)
 
     @property
@@ -134,10 +134,16 @@ class Planner:
         """Eq. 12's margin m of the BRT pruner, measured on first use (``hj.brt_margin``, cached by the
         ``hj_margins`` stage) unless the constructor was given one."""
         if self._margin is None:
-            self.margin_report = measure_static_brt_margin(self.params, self.artifacts_dir, self.room.name,
-                                                           self.p.brt_margin_refine, log=self._log)
-            self._margin = float(self.margin_report["margin"])
+            self._margin_report = measure_static_brt_margin(self.params, self.artifacts_dir, self.room.name,
+                                                            self.p.brt_margin_refine, log=self._log)
+            self._margin = float(self._margin_report["margin"])
         return self._margin
+
+    @property
+    def margin_report(self) -> dict | None:
+        """How ``margin`` was measured (``hj.brt_margin``'s statistics); None when the constructor gave it."""
+        _ = self.margin
+        return self._margin_report
 
     def heuristic(self, name: str, goal_xy, tolerance: float):
         if name == "Dist":

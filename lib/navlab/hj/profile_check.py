@@ -25,11 +25,13 @@ def grid_problems(params: Params, notes: list[str]) -> list[str]:
     and the finer BRT solve that measures the stored grid's margin (always on the CPU), against the budgets."""
     from navlab.core.params import ParamsError
     from navlab.hj.brt_margin import refined_grid
-    from navlab.hj.grids import specs
+    from navlab.hj.grids import forward_only, specs
 
     g = params.hj.grids
     try:
         grids = specs(params)  # grid specs only: no solve
+        if g.robot.v_min < 0:
+            specs(forward_only(params))  # the forward-only car's variant grids keep the speed spacing
     except (ParamsError, ValueError) as err:
         return [str(err).splitlines()[0]]
     arrays = HJ_WORKING_ARRAYS[g.solver.scheme]

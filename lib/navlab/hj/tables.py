@@ -42,7 +42,7 @@ TABLE6_COLUMNS = ["method", "scenario", "success", "runs", "success_rate", "succ
 
 
 FORWARD_ONLY_NOTE = ("Rows 'forward-only car (ours)': the old default, v in [0, v_max] in the lattice (the same "
-                     "speed spacing) with its own TTR grid (hj.grids.forward_only), the paper's OBS check.")
+                     "speed spacing) with its own TTR grid (navlab.hj.grids.forward_only), the paper's OBS check.")
 PRUNER_NOTE = ("OBS is the paper's conventional instantaneous check (clearance at the states the search samples, 4 "
                "per 0.5 s step), BRT the static BRT there (Eq. 12); a plan either passes that grazes an obstacle "
                "between samples fails the paper's dense check (8 points per sample under the dynamics) and counts as "

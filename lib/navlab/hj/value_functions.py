@@ -43,17 +43,17 @@ def heuristic_values(robots: Sequence[tuple[float, float, float, float]], goal_x
 
 
 def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str], slack_s: float,
-               forward_only: Mapping[tuple[int, str], float]) -> Table:
+               forward_only: Mapping[tuple[int, str], float] | None = None) -> Table:
     """Fig. 2's values, one row per robot heading (the upward one first, then the reversed one, as the paper's
     two rows), beside the paper's seconds, and Sec. VI-A's statements decided on them; then the forward-only
-    car's two rows (``forward_only``: ``heuristic_values`` on its TTR grids, ``hj.grids.forward_only``),
-    a labelled variant with our own check. ``slack_s``: the goal disc's radius / v_max (the TTR is the time to
+    car's two rows (``forward_only``: ``heuristic_values`` on its TTR grids, ``navlab.hj.grids.forward_only``;
+    None where the paper's car is itself forward-only), a labelled variant with our own check. ``slack_s``: the goal disc's radius / v_max (the TTR is the time to
     the disc, Dist to its centre)."""
     def rows_of(vals, suffix=""):
         return [{"heading": h + suffix, **{col: vals[(r, name)] for name, col in HEURISTICS.items()}}
                 for r, h in enumerate(headings)]
 
-    rows, forward = rows_of(values), rows_of(forward_only, FORWARD_ONLY)
+    rows, forward = rows_of(values), rows_of(forward_only, FORWARD_ONLY) if forward_only else []
     paper = [{"heading": h, **p} for h, p in zip(headings, PAPER["fig2_heuristic_values"], strict=True)]
     notes = ("The four heuristics of Fig. 2 at its robots (speed 0.5 m/s, the headings as rows), in seconds to the "
              "goal: map TTR (one reach-avoid solve for this goal), general TTR (dynamics, no obstacles), map Dist "
@@ -64,7 +64,7 @@ def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str],
              "'forward-only car (ours)': the same robots under the old default (v >= 0, its own TTR grids at the "
              "same spacing); Dist does not depend on the car.")
     return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows + forward, paper, notes,
-                 [*fig2_claims(rows, slack_s), fig2_forward_only_check(forward)])
+                 [*fig2_claims(rows, slack_s), *([fig2_forward_only_check(forward)] if forward else [])])
 
 
 def fig3_table(speeds: Sequence[float], unsafe: Sequence[float]) -> Table:
