@@ -32,8 +32,8 @@ def test_a_rebuild_from_scratch_gives_the_same_bytes(built, smoke_params, tmp_pa
     """DVC hashes the artefact: wall-clock or other run-to-run state in it would make every HJ stage stale
     after any rebuild (a sidecar recorded the solve time until 2026-11-26)."""
     build_hj_grids(smoke_params, "unused", tmp_path, progress=False, log=lambda m: None)
-    first = {p.name: p.read_bytes() for p in sorted((built / "hj").iterdir())}
-    again = {p.name: p.read_bytes() for p in sorted((tmp_path / "hj").iterdir())}
+    first = {str(p.relative_to(built)): p.read_bytes() for p in sorted((built / "hj").rglob("*")) if p.is_file()}
+    again = {str(p.relative_to(tmp_path)): p.read_bytes() for p in sorted((tmp_path / "hj").rglob("*")) if p.is_file()}
     assert first.keys() == again.keys() and all(first[k] == again[k] for k in first)
 
 
@@ -44,12 +44,13 @@ def _with(params, **solver):
 
 
 def test_rebuild_reuses_current_files(built, smoke_params):
-    before = {p: p.stat().st_mtime_ns for p in (built / "hj").glob("*.npy")}
-    assert len(before) == 3 + len(smoke_params.hj.grids.rooms)  # ttr, human_brt, map_ttr + one BRT per room
+    before = {p: p.stat().st_mtime_ns for p in (built / "hj").rglob("*.npy")}
+    # ttr, human_brt, map_ttr + one BRT per room; the forward-only car's ttr and map_ttr
+    assert len(before) == 3 + len(smoke_params.hj.grids.rooms) + 2
     logs = []
     build_hj_grids(smoke_params, "unused", built, progress=False, log=logs.append)
     assert all("up to date" in m for m in logs) and len(logs) == len(before)
-    assert before == {p: p.stat().st_mtime_ns for p in (built / "hj").glob("*.npy")}
+    assert before == {p: p.stat().st_mtime_ns for p in (built / "hj").rglob("*.npy")}
 
 
 def test_changed_params_make_grids_stale_with_the_stage_named(built, smoke_params):
