@@ -1,4 +1,4 @@
-"""Algorithm 1's walker (navlab.sim.semi_static) with every benchmark policy, on hand-built maps."""
+"""Algorithm 1's walker (navlab.surenav.semi_static) with every benchmark policy, on hand-built maps."""
 
 from __future__ import annotations
 
@@ -9,7 +9,6 @@ from navlab.core.labels import HARD_IDS, NUM_LABELS, SOFT_IDS
 from navlab.core.params.surenav_benchmark import ExecutorParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.search.grid_astar import plan
-from navlab.sim.semi_static import execute
 from navlab.surenav.baselines import (
     ClassOrderedPolicy,
     CostFieldPolicy,
@@ -19,6 +18,7 @@ from navlab.surenav.baselines import (
 )
 from navlab.surenav.baselines.rcr import risk_table
 from navlab.surenav.experts.personas import PERSONAS
+from navlab.surenav.semi_static import execute
 from synthetic_city import L, city
 
 GRAPH = GraphParams(target_nodes=120, compactness=1.0, tau_m=1.0)

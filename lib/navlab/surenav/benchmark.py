@@ -5,7 +5,7 @@ outcomes, for the context benchmark (``surenav.context``: Table I, Fig. 4, Fig. 
 control alike; ``Learned``, ``benchmark_runs`` and ``run_all`` run the per-label control's methods
 (``surenav.tables``). Each environment plays inside its window (``episodes.window``: the start-goal box grown by the
 executor's margin, as the expert planned), doubled while the method finds no plan inside it
-(``windows.walk``, the same rule for every method); the walker of ``sim.semi_static`` believes the
+(``windows.walk``, the same rule for every method); the walker of ``surenav.semi_static`` believes the
 prior map and navigates in the true one. Per episode we keep the outcome (status, SR, SPL, total risk, the
 human-likeness metrics where a demonstration exists, per-re-plan times); the summaries give every
 mean its 95% bootstrap interval over environments and every success rate its Wilson interval.
@@ -31,7 +31,6 @@ from navlab.metrics.frechet import normalised_frechet
 from navlab.metrics.intervals import bootstrap_mean_ci, wilson_ci
 from navlab.metrics.navigation import path_length, risk_table, spl, success, total_risk
 from navlab.metrics.relaxation import relaxed_regions, set_iou
-from navlab.sim.semi_static import Policy
 from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, ExpertPolicy, RCRPolicy
 from navlab.surenav.baselines.rcr import risk_table as rcr_risk_table
 from navlab.surenav.demo_priors import class_order, dstar_label_costs, load_training_traversal
@@ -39,6 +38,7 @@ from navlab.surenav.episodes import Environment
 from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.experts.store import load_demos
 from navlab.surenav.policy import SuReNavPolicy, learned_policy, scored_cost
+from navlab.surenav.semi_static import Policy
 from navlab.surenav.windows import PlanningWindow, WindowedPolicy, shortest_in_windows, walk
 
 BASELINES = ("D* Lite", "COA*", "RCR")

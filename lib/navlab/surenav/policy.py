@@ -60,7 +60,7 @@ def scored_cost(score: Callable[[RegionGraph, np.ndarray, np.ndarray, np.ndarray
 
 
 class SuReNavPolicy:
-    """``sim.semi_static.Policy``: relax with ``cost`` and plan in the chosen mode (one instance per episode)."""
+    """``surenav.semi_static.Policy``: relax with ``cost`` and plan in the chosen mode (one instance per episode)."""
 
     uses_graph = True
 

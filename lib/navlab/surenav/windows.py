@@ -26,8 +26,8 @@ from navlab.core.labels import HARD_IDS
 from navlab.core.params.surenav_benchmark import ExecutorParams
 from navlab.core.params.surenav_graph import GraphParams
 from navlab.metrics.navigation import shortest_feasible_length
-from navlab.sim.semi_static import Policy, Replan, Status, execute
 from navlab.surenav.episodes import Environment, window
+from navlab.surenav.semi_static import Policy, Replan, Status, execute
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,7 @@ class Walk:
 
 
 def walk(env: Environment, make: WindowedPolicy, executor: ExecutorParams, graph: GraphParams) -> Walk:
-    """Algorithm 1's walk of one episode (``sim.semi_static.execute``) in its window, widened (see the
+    """Algorithm 1's walk of one episode (``surenav.semi_static.execute``) in its window, widened (see the
     module) each time the method finds no plan; the step limit counts over the whole walk."""
     res = env.prior.frame.resolution
     believed = env.prior.labels.copy()

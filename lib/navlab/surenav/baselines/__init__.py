@@ -1,4 +1,4 @@
-"""The SuReNav benchmark's baselines and reference policies, each a ``sim.semi_static.Policy``.
+"""The SuReNav benchmark's baselines and reference policies, each a ``surenav.semi_static.Policy``.
 
 ``DStarLitePolicy`` (Koenig & Likhachev 2002), ``ClassOrderedPolicy`` (COA*, Lim & Tsiotras 2021),
 ``RCRPolicy`` (Kim et al. 2024), ``ExpertPolicy`` (the synthetic expert, a reference row) and

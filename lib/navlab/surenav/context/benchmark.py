@@ -59,7 +59,6 @@ from navlab.graphs.region_graph import RegionGraph
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.metrics.navigation import risk_table
 from navlab.metrics.tables import Table
-from navlab.sim.semi_static import Policy
 from navlab.surenav import claims, paper
 from navlab.surenav.baselines import ClassOrderedPolicy, DStarLitePolicy, RCRPolicy
 from navlab.surenav.baselines.cost_field import CostFieldPolicy
@@ -88,6 +87,7 @@ from navlab.surenav.context.walker import ContextWalker, RuleCost
 from navlab.surenav.demo_priors import DSTAR, class_order, dstar_note, dstar_readings, label_traversal
 from navlab.surenav.episodes import Environment
 from navlab.surenav.policy import SuReNavPolicy
+from navlab.surenav.semi_static import Policy
 from navlab.surenav.train import read_log
 from navlab.surenav.windows import PlanningWindow, prior_hard
 

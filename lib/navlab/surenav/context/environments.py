@@ -7,7 +7,7 @@ test maps, with the context walker and its personas in place of the per-label pe
 semi-static demonstrations are kept: they are Table I's environments.
 
 The walker relaxes regions of the query's own region graph: the episode window (start-goal box grown
-by the margin) segmented as the paper segments a query's map (``sim.semi_static.window_graph``), and
+by the margin) segmented as the paper segments a query's map (``surenav.semi_static.window_graph``), and
 after the change updated incrementally (Algorithm 1). A region-level choice made on another partition
 (the whole tile's) would put a lane-wide walk along a road into other superpixels than the same
 choice on the query's graph: measured on the first draft, the walker's own plans matched its
@@ -31,12 +31,12 @@ from navlab.maps.dataset import load_maps
 from navlab.maps.perturb import obstruct_route
 from navlab.maps.queries import sample_pairs
 from navlab.maps.semantic_map import SemanticMap
-from navlab.sim.semi_static import window_graph
 from navlab.surenav.context.personas import CONTEXT_PERSONAS
 from navlab.surenav.context.walker import ContextWalker
 from navlab.surenav.episodes import Environment, window
 from navlab.surenav.experts import Demonstration, relaxed_cells
 from navlab.surenav.experts.hand_noise import dense_cells, hand_drawn
+from navlab.surenav.semi_static import window_graph
 
 PERTURB_TRIES = 4  # seeds tried before a pair gets no semi-static variant (as experts.environments)
 

@@ -1,6 +1,6 @@
 """The two properties that make the context demonstrator a benchmark for SuReNav's claim (issue 25).
 
-Every method walks Table I's executor (``benchmark.run_episode``: ``sim.semi_static.execute`` in the
+Every method walks Table I's executor (``benchmark.run_episode``: ``surenav.semi_static.execute`` in the
 episode window, relaxation IoU on the demonstration's superpixels) on the context environments:
 
 - *context share*: the Expert (the demonstrator's own planner, true persona) minus the best
@@ -33,7 +33,6 @@ from navlab.core.seeding import rng
 from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.intervals import bootstrap_mean_ci
 from navlab.metrics.navigation import risk_table
-from navlab.sim.semi_static import Policy
 from navlab.surenav.baselines.cost_field import CostFieldPolicy
 from navlab.surenav.benchmark import Outcome, reference_superpixels, run_episode
 from navlab.surenav.context.personas import CONTEXT_PERSONAS, mean_persona
@@ -44,6 +43,7 @@ from navlab.surenav.episodes import Environment
 from navlab.surenav.experts.personas import PERSONAS
 from navlab.surenav.experts.store import MapDemos
 from navlab.surenav.policy import SuReNavPolicy
+from navlab.surenav.semi_static import Policy
 from navlab.surenav.windows import PlanningWindow, prior_hard
 
 EXPERT = "Expert (context demonstrator's planner)"

@@ -5,7 +5,7 @@ differentiable graph A*, AdamW, early stopping on the validation plan IoU, ``tra
 ``surenav.train``'s batch planner, loss and evaluation, on two differences of data and input:
 
 - a sample is a context demonstration on the graph its walker relaxed on: the query window's region
-  graph (``sim.semi_static.window_graph`` of the start-goal box grown by the margin), after the
+  graph (``surenav.semi_static.window_graph`` of the start-goal box grown by the margin), after the
   incremental update for the new obstacle, as the walker and the executor build it. Its target is the
   soft nodes of that graph holding a cell the demonstration entered;
 - the node input is ``surenav.demos.context.node_features`` (``features``): "context" adds the rules'
@@ -55,7 +55,6 @@ from navlab.core.training import TrainingRun, descend, fit, load_torch, save_tor
 from navlab.graphs.incremental import update_graph
 from navlab.maps.osm import CITIES
 from navlab.maps.semantic_map import SemanticMap
-from navlab.sim.semi_static import window_graph
 from navlab.surenav.blackbox import estimator_blackbox_loss
 from navlab.surenav.context.dataset import load_context_demos
 from navlab.surenav.context.features import (
@@ -68,6 +67,7 @@ from navlab.surenav.context.features import (
 )
 from navlab.surenav.episodes import window
 from navlab.surenav.experts.environments import Demonstration
+from navlab.surenav.semi_static import window_graph
 from navlab.surenav.train import (
     TRAIN_IOU_STRIDE,
     _write_log,

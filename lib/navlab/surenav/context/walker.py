@@ -38,7 +38,7 @@ class RuleCost:
 
 
 class ContextWalker:
-    """``sim.semi_static.Policy`` of the demonstrator (and of its reference row through the executor)."""
+    """``surenav.semi_static.Policy`` of the demonstrator (and of its reference row through the executor)."""
 
     uses_graph = True
 

@@ -1,1 +1,0 @@
-"""navlab.sim (see DESIGN.md for what this layer holds)."""
