@@ -38,9 +38,10 @@ def test_fig2_rows_beside_the_papers_seconds_and_its_statements_decided():
     paper = [c for c in table.claims if c.source == "paper"]
     assert {c.verdict for c in paper} == {"holds"} and len(paper) == 6  # decided on the paper's car's rows only
     assert "Claims" not in table.notes and "prints no numbers" not in table.notes
-    # the forward-only car's rows get our own check, counted apart: here its map TTR falls when reversed
+    # the forward-only car's rows get our own bound check, counted apart: here its map TTR reversed (4.5 s)
+    # lies below the reversing car's (6.0 s), which a subset of the controls cannot do
     (forward,) = [c for c in table.claims if c.source == "ours"]
-    assert "forward-only car's map TTR rises" in forward.claim and forward.verdict == "does not hold"
+    assert "never below the reversing car's" in forward.claim and forward.verdict == "does not hold"
     # map TTR falling when reversed; map Dist below general Dist: those statements do not hold
     bad = fig2_table(_values([(5.0, 4.0, 2.5, 3.0), (4.5, 4.5, 2.5, 3.0)]), ["up", "down"], slack_s=0.2,
                      forward_only=good)

@@ -64,7 +64,7 @@ def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str],
              "'forward-only car (ours)': the same robots under the old default (v >= 0, its own TTR grids at the "
              "same spacing); Dist does not depend on the car.")
     return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows + forward, paper, notes,
-                 [*fig2_claims(rows, slack_s), *([fig2_forward_only_check(forward)] if forward else [])])
+                 [*fig2_claims(rows, slack_s), *([fig2_forward_only_check(rows, forward)] if forward else [])])
 
 
 def fig3_table(speeds: Sequence[float], unsafe: Sequence[float]) -> Table:
