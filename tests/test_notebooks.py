@@ -113,3 +113,21 @@ def test_missing_input_names_the_command_in_one_line(notebook, smoke_data, tmp_p
     assert re.search(r"`python -m navlab artifacts build (--profile smoke --data-dir \S+ --artifacts-dir \S+ )?--only "
                      if artifacts else r"`python -m navlab data build", message), message
     assert error.traceback == [f"DataError: {message}"]  # the error output: one line, no traceback
+
+
+@pytest.mark.notebook
+def test_a_bad_profile_given_to_papermill_is_one_line(tmp_path):
+    """`papermill notebooks/00_quickstart.ipynb o.ipynb -p profile nope` (issue 63): the error output names
+    the value and the profiles in one line, no traceback (the display is installed before the profile loads)."""
+    import nbformat
+    import papermill
+
+    source = Path("notebooks/00_quickstart.ipynb").resolve()
+    with pytest.raises(papermill.PapermillExecutionError):
+        papermill.execute_notebook(str(source), str(tmp_path / "o.ipynb"), parameters={"profile": "nope"},
+                                   cwd=str(source.parent), kernel_name="python3", progress_bar=False)
+    executed = nbformat.read(tmp_path / "o.ipynb", as_version=4)
+    (error,) = [o for c in executed.cells if c.cell_type == "code" for o in c.get("outputs", [])
+                if o.output_type == "error"]
+    assert error.ename == "ParamsError" and "nope" in error.evalue and "smoke" in error.evalue
+    assert error.traceback == [f"ParamsError: {error.evalue}"]

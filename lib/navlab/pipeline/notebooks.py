@@ -44,8 +44,10 @@ def resolve_parameters(
 
     Relative folders (given or from the environment) are taken from the checkout root, like the
     paths in dvc.yaml. In an IPython kernel, a DataError or ParamsError is then shown as its one-line
-    message (which names the file and the command that builds it) instead of a long traceback.
+    message (which names the file and the command that builds it) instead of a long traceback: installed
+    first, so that a bad ``profile`` given to papermill (``-p profile nope``) is one line too.
     """
+    _show_input_errors_in_one_line()
     root = repo_root()
     given = {"data_dir": data_dir, "artifacts_dir": artifacts_dir, "reports_dir": reports_dir}
     folders = []
@@ -58,7 +60,6 @@ def resolve_parameters(
             raise ParamsError(f"{ENVIRONMENT['profile']}={profile!r}: allowed profiles are {', '.join(PROFILES)}; "
                               f"unset it to use the `profile` key of params.yaml")
     profile = load_params(profile).profile
-    _show_input_errors_in_one_line()
     return (profile, *folders)
 
 
