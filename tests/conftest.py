@@ -7,9 +7,11 @@ from pathlib import Path
 
 import pytest
 
+from navlab.core.allocator import keep_freed_memory
 from navlab.core.params import load_params
 
 ROOT = Path(__file__).resolve().parents[1]
+keep_freed_memory()  # as `python -m navlab` does for every stage; papermill's kernels inherit it (core.allocator)
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -22,6 +22,7 @@ BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 # script -> its arguments; {data}, {artifacts}, {out} stand for the smoke data, smoke artefacts, a temp folder
 RUNS = {
     "frechet.py": ["--points", "20", "--repeats", "1"],
+    "allocator_margin.py": ["--refine", "1", "1", "1", "1", "--horizon", "0.05", "--repeats", "1"],
     "region_graph.py": ["--size", "64", "--nodes", "30", "--repeats", "1"],
     "grid_astar.py": ["--data-dir", "{data}", "--queries", "2", "--walks", "1"],
     "diff_astar.py": ["--data", "{data}", "--graphs", "1", "--nodes", "200", "--repeats", "1"],

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import yaml
 
+from navlab.core.allocator import keep_freed_memory
 from navlab.core.io import DataError, folder_lock
 from navlab.core.params import PROFILES, ParamsError, load_params, repo_root
 from navlab.pipeline.steps import artifact_steps, data_steps
@@ -370,6 +371,7 @@ def write_error(err: OSError) -> str | None:
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
+    keep_freed_memory()  # the solver's and trainers' per-step arrays stay in the heap (core.allocator)
     try:
         _refuse_stale_resolved_params(args)
         return args.func(args)
