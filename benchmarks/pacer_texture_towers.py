@@ -77,7 +77,6 @@ from navlab.pacer.experiments import (
 from navlab.pacer.loss import matching_loss
 from navlab.pacer.model import TextureMatcher
 from navlab.pacer.preferences import context_limited_costs
-from navlab.pacer.pretrained import FEATURE_CHANNELS, INPUT_MEAN, INPUT_STD, load_efficientnet_lite0
 from navlab.pacer.terrain import load_terrain_bank
 from navlab.pacer.train import load_model
 
@@ -147,33 +146,19 @@ class HypercolumnMatcher(TextureMatcher):
 
 
 class PretrainedMatcher(TextureMatcher):
-    """The matcher with frozen ImageNet features (EfficientNet-Lite0's strides 4 and 8) and a trained 1 x 1
-    projection (identity at the start, so ``pretrained-raw`` is this untrained); ``upsample`` enlarges every
-    input first. The backbone stays in eval mode (its batch statistics are ImageNet's)."""
+    """PACER's matcher on frozen ImageNet features (``match_features="imagenet"``: EfficientNet-Lite0's strides 4
+    and 8, a trained 1 x 1 projection, identity at the start, so ``pretrained-raw`` is this untrained);
+    ``upsample`` enlarges every input first."""
 
     def __init__(self, upsample: int = 1):
-        super().__init__((8,))
-        self.backbone = load_efficientnet_lite0()
-        width = FEATURE_CHANNELS[4] + FEATURE_CHANNELS[8]
-        self.project = nn.Conv2d(width, width, 1)
-        with torch.no_grad():
-            self.project.weight.copy_(torch.eye(width)[:, :, None, None])
-            self.project.bias.zero_()
+        super().__init__((8,), features="imagenet")
         self.upsample = upsample
-
-    def train(self, mode: bool = True):
-        super().train(mode)
-        self.backbone.eval()
-        return self
 
     def backbone_features(self, x: torch.Tensor) -> torch.Tensor:
         """The frozen part: stride-4 features beside the stride-8 ones upsampled to them, of images in [0, 1]."""
         if self.upsample > 1:
             x = F.interpolate(x, scale_factor=self.upsample, mode="bilinear", align_corners=False)
-        with torch.no_grad():
-            maps = self.backbone.features((x * 255.0 - INPUT_MEAN) / INPUT_STD)
-        coarse = F.interpolate(maps[8], size=maps[4].shape[-2:], mode="bilinear", align_corners=False)
-        return torch.cat([maps[4], coarse], dim=1)
+        return self.features(x)
 
     def embed(self, x: torch.Tensor) -> torch.Tensor:
         return self.project(self.backbone_features(x))

@@ -668,3 +668,30 @@ def test_patch_ranks_pass_gradients_to_the_patch_features(smoke):
     keys = torch.nn.functional.normalize(torch.randn(1, 6, 8, dtype=torch.float64, generator=torch.Generator().manual_seed(0)), dim=2)
     keys.requires_grad_(True)
     assert torch.autograd.gradcheck(lambda k: matcher.patch_ranks(k), (keys,))
+
+
+def test_imagenet_matcher_trains_its_projection_and_never_its_features(smoke):
+    """``match_features: imagenet`` (issue 61): a training step of the whole model moves the matcher's 1 x 1
+    projection and leaves the ImageNet layers bit for bit as loaded (frozen, eval mode); the scratch matcher
+    trains its towers. The saved model carries the layers it runs (up to stride 8), so it loads alone."""
+    from navlab.pacer.pretrained import ImageNetFeatures
+
+    for kind in ("imagenet", "scratch"):
+        torch.manual_seed(0)
+        model = build_model(dataclasses.replace(smoke.model, match_features=kind)).train()
+        features = model.matcher.features
+        assert isinstance(features, ImageNetFeatures) == (kind == "imagenet")
+        before = {k: v.clone() for k, v in model.matcher.state_dict().items()}
+        item = ContextOnlySet(2, seed=3)
+        batch = {k: torch.stack([torch.as_tensor(item[i][k]) for i in range(2)])
+                 for k in ("image", "context", "costmap", "fov_mask")}
+        optimiser = torch.optim.Adam(model.parameters(), lr=0.01)
+        masked_bce(model(batch["image"], batch["context"]), batch["costmap"], batch["fov_mask"]).backward()
+        optimiser.step()
+        after = model.matcher.state_dict()
+        moved = {k for k in before if not torch.equal(before[k], after[k])}
+        assert any(k.startswith("project.") for k in moved)
+        if kind == "imagenet":
+            assert not features.training and not any(k.startswith("features.") for k in moved)
+        else:
+            assert any(k.startswith("features.") for k in moved)

@@ -35,6 +35,7 @@ from torch import nn
 from torch.nn import functional as F
 
 from navlab.core.params.pacer import PacerModelParams
+from navlab.pacer.pretrained import ImageNetFeatures
 
 
 def conv_block(c_in: int, c_out: int) -> nn.Sequential:
@@ -152,10 +153,25 @@ class TextureMatcher(nn.Module):
     """
 
     def __init__(self, channels: tuple[int, ...], colour_channels: int = 3, dilated: bool = False,
-                 luminance: bool = False):
+                 luminance: bool = False, features: str = "scratch"):
         super().__init__()
-        self.features = self._tower(channels, colour_channels, dilated)
-        self.project = nn.Conv2d(channels[-1], channels[-1], 1)
+        if features not in ("scratch", "imagenet"):
+            raise ValueError(f"pacer.model.match_features = {features!r}: allowed values are imagenet, scratch")
+        self.imagenet = features == "imagenet"
+        if self.imagenet and colour_channels != 3:
+            raise ValueError(f"ImageNet features take RGB images, not {colour_channels} channels; use "
+                             "pacer.model.match_features: scratch")
+        if self.imagenet:
+            self.features = ImageNetFeatures()
+            width = ImageNetFeatures.channels
+            self.project = nn.Conv2d(width, width, 1)
+            with torch.no_grad():  # identity at the start: the untrained matcher compares ImageNet's features
+                self.project.weight.copy_(torch.eye(width)[:, :, None, None])
+                self.project.bias.zero_()
+            dilated, luminance = False, False  # stride 4; the 3 x 3 local mean of ``cosines`` as a pooled tower's
+        else:
+            self.features = self._tower(channels, colour_channels, dilated)
+            self.project = nn.Conv2d(channels[-1], channels[-1], 1)
         # a second tower fed the image in grey: trained where colour separates nearly every terrain, a colour
         # tower never learns the texture statistics that tell same-coloured terrains apart, a colour-blind one
         # must (benchmarks/README.md, "a tower blind to colour")
@@ -181,7 +197,10 @@ class TextureMatcher(nn.Module):
         return nn.Sequential(*layers)
 
     def embed(self, x: torch.Tensor) -> torch.Tensor:
-        """Features (B, d, ...): the colour tower's, then (with ``luminance``) the grey tower's."""
+        """Features (B, d, ...): the projected ImageNet features; or the colour tower's, then (with
+        ``luminance``) the grey tower's."""
+        if self.imagenet:
+            return self.project(self.features(x))
         colour = self.project(self.features(x - 0.5))
         if self.grey_features is None:
             return colour
@@ -293,7 +312,7 @@ class PacerNet(nn.Module):
             self.fuse = nn.Sequential(nn.Linear(b + cfg.context_dim, b + cfg.context_dim // 2),
                                       nn.Linear(b + cfg.context_dim // 2, b))
         self.matcher = (TextureMatcher(tuple(cfg.match_channels), colour_channels, cfg.match_dilated,
-                                       cfg.match_luminance) if cfg.match_channels else None)
+                                       cfg.match_luminance, cfg.match_features) if cfg.match_channels else None)
         if self.matcher is not None:  # the match maps enter the bottleneck and every decoder stage
             self.match_in = nn.ModuleList(nn.Conv2d(2, c, 1) for c in ups)
             # and S reaches the cost logit directly, with a learned gain: "looks like a less preferred

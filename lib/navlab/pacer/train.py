@@ -165,8 +165,8 @@ def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet
     """A trained network from a phase's ``model.pt`` (its architecture is stored beside the weights)."""
     path = Path(path)
     # models saved before ``match_channels`` existed have no texture matcher, before ``match_dilated`` a pooled one,
-    # before ``match_luminance`` a colour tower alone
-    old = {"match_channels": (), "match_dilated": False, "match_luminance": False}
+    # before ``match_luminance`` a colour tower alone, before ``match_features`` towers trained from scratch
+    old = {"match_channels": (), "match_dilated": False, "match_luminance": False, "match_features": "scratch"}
     return load_network(path, lambda saved: build_model(PacerModelParams(**{**old, **saved["model_config"]}),
                                                         context_pairs=saved["context_pairs"],
                                                         patch_size=saved.get("patch_size")),

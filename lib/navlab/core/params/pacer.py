@@ -116,6 +116,10 @@ class PacerModelParams:
     # a second, colour-blind tower beside the colour one, features concatenated (issue 24: the colour tower
     # loses unseen terrains that share a colour and differ in texture)
     match_luminance: bool
+    # where the matcher's texture features come from (issue 61): imagenet, EfficientNet-Lite0's frozen ImageNet
+    # features (strides 4 and 8) and a trained 1 x 1 projection (match_channels then only switches the matcher on);
+    # scratch, the towers above trained from the seen terrains' photographs alone (a labelled variant)
+    match_features: Literal["imagenet", "scratch"]
 
 
 @section
