@@ -62,7 +62,9 @@ def key_form_cosines(matcher: TextureMatcher, image: torch.Tensor, context: torc
     """{key form: (2n, H, W) patch scores} for one map; image (3, H, W), context (3n, 2p, p)."""
     features = matcher.embed(matcher.patches(context[None]))  # (2n, d, p, p)
     centre = features.mean(dim=(2, 3)).mean(dim=0)
-    pixels = matcher.unit(matcher.embed(image[None]), centre[None, :, None, None])[0].flatten(1)  # (d, H*W)
+    embedded = matcher.embed(image[None])  # a strided matcher (ImageNet's stride 4): each pixel its cell's feature
+    embedded = F.interpolate(embedded, size=image.shape[1:], mode="bilinear", align_corners=False)
+    pixels = matcher.unit(embedded, centre[None, :, None, None])[0].flatten(1)  # (d, H*W)
     shape = (features.shape[0], *image.shape[1:])
 
     def by_mean(f: torch.Tensor) -> torch.Tensor:
@@ -103,7 +105,8 @@ def nearest_patch_method(matcher: TextureMatcher):
     """No network: each pixel its nearest context patch's terrain, costed at that terrain's mean rank over the
     orderings the context's pairs allow (the context-limited oracle's rule on the matcher's recognition)."""
     def cost(amap, _ordering, context, pairs):
-        cosines = patch_cosines(matcher, torch.as_tensor(amap.image), torch.as_tensor(context)).numpy()
+        cosines = patch_cosines(matcher, torch.as_tensor(amap.image), torch.as_tensor(context))
+        cosines = F.interpolate(cosines[None], size=amap.labels.shape, mode="bilinear", align_corners=False)[0].numpy()
         named = np.concatenate([pairs[:, 0], pairs[:, 1]])
         terrains = np.unique(named)
         return terrain_costmap(named[cosines.argmax(axis=0)],
@@ -143,8 +146,8 @@ def order_rule_rows(model, maps, bank, P, preference: str) -> dict[str, str]:
 
 def committed_matcher_run(parser: argparse.ArgumentParser):
     """(arguments, params, terrain bank, committed phase-3 model) for a script that re-reads the committed matcher
-    on the tables' maps: adds the arguments such scripts share, and refuses a model whose matcher does not name
-    every pixel (these readings need one feature per pixel)."""
+    on the tables' maps: adds the arguments such scripts share. A strided matcher's (ImageNet features: stride 4)
+    are read at every pixel by bilinear interpolation, as the model reads its cosines."""
     parser.add_argument("--profile", default="default")
     parser.add_argument("--maps", type=int, default=None, help="maps per group (default: all the tables use)")
     parser.add_argument("--threads", type=int, default=2)
@@ -159,9 +162,6 @@ def committed_matcher_run(parser: argparse.ArgumentParser):
     if model.matcher is None:
         raise SystemExit(f"profile {run.profile!r} trains no texture matcher (pacer.model.match_channels is empty): "
                          "nothing to re-read; use a profile with one")
-    if not model.matcher.dilated:
-        raise SystemExit("these readings take one matcher feature per pixel: they need a full-resolution matcher "
-                         "(pacer.model.match_dilated: true)")
     return run, params, bank, model
 
 
