@@ -63,8 +63,11 @@ def colour_features(image: np.ndarray) -> np.ndarray:
 
 @torch.no_grad()
 def matcher_features(matcher: TextureMatcher, image: np.ndarray) -> np.ndarray:
-    """(H, W, d): the matcher's unit pixel features (uncentred: a Gaussian model is blind to the shift)."""
-    return matcher.unit(matcher.embed(torch.as_tensor(image)[None]), torch.zeros(()))[0].numpy().transpose(1, 2, 0)
+    """(H, W, d): the matcher's unit pixel features (uncentred: a Gaussian model is blind to the shift); a
+    strided matcher's (the ImageNet features' stride 4) read at every pixel by bilinear interpolation."""
+    embedded = matcher.embed(torch.as_tensor(image)[None])
+    embedded = torch.nn.functional.interpolate(embedded, size=image.shape[1:], mode="bilinear", align_corners=False)
+    return matcher.unit(embedded, torch.zeros(()))[0].numpy().transpose(1, 2, 0)
 
 
 def gaussian_log_posterior(features: np.ndarray, named: np.ndarray, confident: np.ndarray,
@@ -106,7 +109,9 @@ def refined_labels(scores: np.ndarray, temperature: float, log_post: np.ndarray,
 
 def map_rates(matcher: TextureMatcher, amap: AerialMap, context: np.ndarray, pairs: np.ndarray, run) -> dict:
     """{reading: (share right over named pixels, over named pixels near another terrain)} for one map."""
-    cosines = patch_cosines(matcher, torch.as_tensor(amap.image), torch.as_tensor(context)).numpy()
+    cosines = patch_cosines(matcher, torch.as_tensor(amap.image), torch.as_tensor(context))
+    cosines = torch.nn.functional.interpolate(cosines[None], size=amap.labels.shape, mode="bilinear",
+                                              align_corners=False)[0].numpy()  # a strided matcher: every pixel
     patch_terrains = np.concatenate([pairs[:, 0], pairs[:, 1]])
     terrains = np.unique(patch_terrains)
     scores = np.stack([cosines[patch_terrains == t].max(axis=0) for t in terrains]).astype(np.float64)
