@@ -10,6 +10,7 @@ from navlab.core.params.fields import PROFILES, between, section
 from navlab.core.params.hj import HJParams
 from navlab.core.params.pacer import PacerParams
 from navlab.core.params.quickstart import QuickstartParams
+from navlab.core.params.stack import StackParams
 from navlab.core.params.surenav import SuReNavParams
 
 __all__ = ["PROFILES", "Params"]
@@ -24,6 +25,7 @@ class Params:
     surenav: SuReNavParams
     hj: HJParams
     pacer: PacerParams
+    stack: StackParams
 
     def __post_init__(self):
         """Refuse keys of different sections that do not fit together (constraints.py) at load time, so a

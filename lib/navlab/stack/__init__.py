@@ -1,0 +1,1 @@
+"""navlab.stack: one navigation stack from the three papers (issue 64; docs/design.md, "Layers")."""
