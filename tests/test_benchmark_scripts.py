@@ -24,6 +24,8 @@ RUNS = {
     "frechet.py": ["--points", "20", "--repeats", "1"],
     "allocator_margin.py": ["--refine", "1", "1", "1", "1", "--horizon", "0.05", "--repeats", "1"],
     "region_graph.py": ["--size", "64", "--nodes", "30", "--repeats", "1"],
+    "stack_replan.py": ["--profile", "smoke", "--episodes", "1", "--data-dir", "{data}", "--artifacts-dir",
+                        "{artifacts}", "--out", "{out}/replan.json"],
     "grid_astar.py": ["--data-dir", "{data}", "--queries", "2", "--walks", "1"],
     "diff_astar.py": ["--data", "{data}", "--graphs", "1", "--nodes", "200", "--repeats", "1"],
     "pacer_data.py": ["--profile", "smoke", "--items", "4", "--data-dir", "{data}"],

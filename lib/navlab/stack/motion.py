@@ -60,7 +60,7 @@ class RasterRoom:
         self.name, self.res = "stack window", resolution
         self.height, self.width = blocked.shape[0] * resolution, blocked.shape[1] * resolution
         outside = ndimage.distance_transform_edt(~blocked) if blocked.any() else np.full(blocked.shape, 1e6)
-        self.sdf = (outside - ndimage.distance_transform_edt(blocked) - 0.5) * resolution
+        self.sdf = np.where(blocked, 0.5 - ndimage.distance_transform_edt(blocked), outside - 0.5) * resolution
 
     @property
     def bounds(self):

@@ -121,7 +121,13 @@ def _box(route: np.ndarray, shape, margin: int, multiple: int) -> tuple[slice, s
     lo = np.maximum(route.min(axis=0) - margin - grow, 0)
     hi = np.minimum(route.max(axis=0) + margin + grow + 1, shape)
     size = (hi - lo) // multiple * multiple
-    return slice(int(lo[0]), int(lo[0] + size[0])), slice(int(lo[1]), int(lo[1] + size[1]))
+    sides = []
+    for axis in range(2):  # the rounding drops cells at the end the route leaves room at (the margin > multiple)
+        fits = [a for a in (lo[axis], hi[axis] - size[axis])
+                if a <= route[:, axis].min() and route[:, axis].max() < a + size[axis]]
+        first = int(fits[0] if fits else lo[axis])
+        sides.append(slice(first, first + int(size[axis])))
+    return sides[0], sides[1]
 
 
 def stack_episode(index: int, tiles: list[SemanticMap], params: Params, bank: TerrainBank) -> StackEpisode:
@@ -130,10 +136,11 @@ def stack_episode(index: int, tiles: list[SemanticMap], params: Params, bank: Te
     rng = np.random.default_rng([S.seed, index])
     tile = tiles[index % len(tiles)]
     res = tile.frame.resolution
-    for _ in range(DRAWS // 20):
-        start, goal, route = _draw_pair(tile, params, rng)
+    for _ in range(DRAWS // 4):
+        route = _draw_pair(tile, params, rng)[2]
         rows, cols = _box(route, tile.labels.shape, round(S.box_margin_m / res), 8)
-        if start[0] >= rows.stop or start[1] >= cols.stop or goal[0] >= rows.stop or goal[1] >= cols.stop:
+        inside = [box.start <= route[:, k].min() and route[:, k].max() < box.stop for k, box in enumerate((rows, cols))]
+        if not all(inside):  # a tile smaller than the box
             continue
         prior = tile.crop(rows, cols)
         local = route - [rows.start, cols.start]
