@@ -270,7 +270,7 @@ def render_page(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures: di
         for table_id, report in reports:
             parts += [f"### [{report['paper_ref']}]({track}/{table_id}.md)", "", *table_markdown(report, track), ""]
             parts += [_figure_markdown(f) for f in shown if f.beside == table_id]
-        if paper:
+        if paper and track in claim_registries:  # a track without a paper's claims (the stack) has no tally
             claims = paper_claims(track, reports, claim_registries[track])
             checks = our_checks(track, reports)
             parts += [f"### {paper.name} claims", "",
@@ -316,6 +316,9 @@ def headline_block(tracks: dict[str, list[tuple[str, dict[str, Any]]]], figures:
                 parts.append(f"| [{report['paper_ref']}]({base}{track}/{table_id}.md) | {', '.join(key)} | {c} | "
                              f"{ours} | {printed} |")
         listed = list(reports.items())
+        if track not in claim_registries:
+            parts.append("")
+            continue
         link = f"{page}#{_anchor(paper.name + ' claims')}"
         claims = [c for _, c in paper_claims(track, listed, claim_registries[track])]
         checks = tally([c for _, c in our_checks(track, listed)])
