@@ -21,7 +21,8 @@ def _normal(text: str) -> str:
 
 
 def test_every_registry_is_a_papers_with_its_text_named():
-    assert set(REGISTRIES) <= set(papers()) == set(PAPER_FILES)
+    # the stack (ours) is a track with no paper text and no registry: no claim of a paper is decided there
+    assert set(REGISTRIES) == set(PAPER_FILES) and set(PAPER_FILES) <= set(papers())
 
 
 @pytest.mark.parametrize("track", sorted(REGISTRIES))
