@@ -7,7 +7,7 @@ TRACK = Track(
     name="stack",
     paper=Paper("navlab stack", "One navigation stack from the three papers: PACER's terrain costs, SuReNav's "
                 "relaxation, HJ-search's planner among people, and its one-layer ablation (ours)",
-                "docs/design.md#layers-the-import-rule"),
+                "../docs/design.md#layers-the-import-rule"),
     stages=(
         notebook_stage("stack_01_ablation", "notebooks/stack/01_ablation.ipynb",
                        ("stack", "pacer", "surenav", "hj.grids", "hj.planner", "data.maps"),
