@@ -175,7 +175,8 @@ def test_every_stage_that_reads_the_bank_depends_on_the_photographs_folder():
     from navlab.pipeline.dvc_yaml import all_stages
 
     stages = all_stages()
-    readers = [s for s in stages if s.name.startswith("pacer_")]
-    assert len(readers) == 8
+    reads = ("pacer_", "stack_")  # the stack paints its aerial images with the bank's photographs
+    readers = [s for s in stages if s.name.startswith(reads)]
+    assert len(readers) == 9
     assert all(OWN_PHOTOS in s.inputs for s in readers)
-    assert all(OWN_PHOTOS not in s.inputs for s in stages if not s.name.startswith("pacer_"))
+    assert all(OWN_PHOTOS not in s.inputs for s in stages if not s.name.startswith(reads))
