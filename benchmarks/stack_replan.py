@@ -20,7 +20,6 @@ import torch
 from navlab.core.params import load_params
 from navlab.maps.dataset import load_maps
 from navlab.pacer.terrain import load_terrain_bank
-from navlab.stack import motion
 from navlab.stack.ablation import drive
 from navlab.stack.motion import HJFollower, allowed_ground
 from navlab.stack.route import expert_route
@@ -31,14 +30,14 @@ ROOM_CLEARANCE_M = 0.02  # hj.pruners' default raster: what HJ-search's rooms us
 
 def drive_variant(follower: HJFollower, episode, route, params, reference: bool):
     """One drive with the follower as tuned, or as the HJ code runs per call (``reference``)."""
-    kept_table, kept_resolution = follower.table, motion.CLEARANCE_RESOLUTION_M
+    kept_table, kept_resolution = follower.table, follower.clearance_resolution_m
     if reference:
-        follower.table, motion.CLEARANCE_RESOLUTION_M = None, ROOM_CLEARANCE_M
+        follower.table, follower.clearance_resolution_m = None, ROOM_CLEARANCE_M
     try:
         xy = episode.prior.frame.cell_to_world(route)
         return drive(episode, xy, allowed_ground(episode, route), follower, params)
     finally:
-        follower.table, motion.CLEARANCE_RESOLUTION_M = kept_table, kept_resolution
+        follower.table, follower.clearance_resolution_m = kept_table, kept_resolution
 
 
 def main() -> None:

@@ -213,12 +213,14 @@ def test_a_route_that_relaxes_a_region_is_followed_there(params, follower, cheap
 # ------------------------------------------------------------- hand-off: pedestrians -> the HJ pruner
 
 
-def corridor():
-    """A 5 m wide straight sidewalk (rows 1-5, cols 1-14), buildings round it; the route along row 3."""
-    labels = np.full((7, 16), BUILDING, np.uint8)
-    labels[1:6, 1:15] = SIDEWALK
+def corridor(width: int = 5):
+    """A ``width`` m wide straight sidewalk (rows 1..width, cols 1-14), buildings round it; the route along its
+    middle row (row 3 for the default 5 m)."""
+    labels = np.full((width + 2, 16), BUILDING, np.uint8)
+    labels[1:width + 1, 1:15] = SIDEWALK
     superpixels = np.where(labels == SIDEWALK, 0, -1).astype(np.int32)
-    cells = np.array([(3, c) for c in range(2, 14)])
+    middle = (width + 2) // 2
+    cells = np.array([(middle, c) for c in range(2, 14)])
     return labels, superpixels, cells
 
 
@@ -238,25 +240,46 @@ def test_a_pedestrian_in_the_window_reaches_the_pruner_and_one_far_away_does_not
     assert not np.array_equal(near.state, alone.state)
 
 
-def test_the_follower_never_reaches_a_pedestrian_standing_on_the_route(params, follower):
-    """A walker standing on the route 5 m ahead (in the window once the robot moves): never within the contact
-    distance, while the same drive without it passes through its place (so the pruner, not the route, kept
-    the robot off). The drive is cut at 10 s: the robot stops short and stays, its local goal (a route point
-    within a metre of the walker) lying in the walker's BRT, so no plan is found."""
-    labels, superpixels, cells = corridor()
+@pytest.mark.parametrize("width", [5, 1])
+def test_a_pedestrian_standing_on_the_route_is_passed_where_there_is_room_and_waited_for_where_not(
+        params, follower, width):
+    """A walker standing on the route's middle: never within the contact distance. On the 5 m walkway the
+    local goal steps aside, out of the walker's BRT (``motion.clear_point``), and the robot passes it and
+    arrives; on a 1 m walkway there is no way past, and the robot stops short and waits (cut at 15 s), while the same drive without the walker passes through its place (so the pruner, not the route,
+    kept the robot off)."""
+    labels, superpixels, cells = corridor(width)
     frame = RasterFrame(labels.shape, 1.0, ORIGIN)
-    spot = frame.cell_to_world(np.array([3, 7]))
+    spot = frame.cell_to_world(np.array(cells[5]))
     reach = params.hj.grids.robot.radius_m + params.hj.grids.human.radius_m
-    short = with_timeout(params, 10.0)
+    short = with_timeout(params, 15.0)
     route_xy = frame.cell_to_world(cells)
     ep = episode(labels, labels, superpixels, tuple(cells[0]), tuple(cells[-1]), (standing(spot),))
     allowed = motion.allowed_ground(ep, cells)
     met = ablation.drive(ep, route_xy, allowed, follower, short)
     assert met.outcome != "collision" and met.contacts == 0
-    assert np.linalg.norm(met.trajectory[:, 1:3] - spot, axis=1).min() >= reach - 1e-6
+    gaps = np.linalg.norm(met.trajectory[:, 1:3] - spot, axis=1)
+    assert gaps.min() >= reach - 1e-6
+    if width == 5:
+        assert met.outcome == "success"
+        assert gaps.min() >= follower.keep_off_m - 0.5  # it kept off by about the walker's BRT at rest
+    else:
+        assert met.outcome == "timeout"
+        assert met.trajectory[-1, 1] < spot[0] - reach  # short of the walker, on its side
     free = ablation.drive(dataclasses.replace(ep, walkers=()), route_xy, allowed, follower, short)
     assert free.contacts == 0 and free.outcome != "collision"
     assert np.linalg.norm(free.trajectory[:, 1:3] - spot, axis=1).min() < reach
+
+
+def test_the_resting_keep_off_distance_bounds_the_human_brt(follower):
+    """``rest_keep_off``: every stored state of the human BRT at v = 0 farther from the walker than it is safe,
+    and it exceeds the collision radius (a pedestrian's BRT is more than its disc)."""
+    lookup, keep = follower.human_brt, follower.keep_off_m
+    grid = lookup.grid
+    axes = [np.linspace(lo, hi, n) for lo, hi, n in zip(grid.lo, grid.hi, grid.shape)]
+    rest = lookup.stored.values[:, :, int(np.argmin(np.abs(axes[2])))]
+    radius = np.hypot(*np.meshgrid(axes[0], axes[1], indexing="ij"))
+    assert keep > lookup.collision_radius
+    assert (rest[radius >= keep] > follower.fi.margin).all()
 
 
 def test_the_follower_passes_a_pedestrian_beside_the_route(params, follower):

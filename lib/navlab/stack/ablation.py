@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
@@ -24,6 +26,9 @@ from navlab.metrics.relaxation import relaxed_regions, set_iou
 from navlab.pacer.preferences import environment_tiers
 from navlab.pacer.terrain import TerrainBank
 from navlab.pacer.train import load_model
+from navlab.surenav.context.dataset import load_context_demos
+from navlab.surenav.context.training import context_cost, main_run
+from navlab.surenav.demo_priors import dstar_label_costs, label_traversal
 from navlab.stack.motion import HJFollower, PointCheckFollower, allowed_ground
 from navlab.stack.route import TerrainDStarLite, TerrainSuReNavPolicy, expert_route, walk_route
 from navlab.stack.terrain import label_costs, pacer_costs
@@ -51,14 +56,16 @@ def _lookahead(route: np.ndarray, arc: np.ndarray, progress: float, distance: fl
     return np.array([np.interp(s, arc, route[:, 0]), np.interp(s, arc, route[:, 1])]), s >= arc[-1]
 
 
-def drive(episode: StackEpisode, route_xy: np.ndarray, allowed: np.ndarray, follower, params: Params) -> Drive:
+def drive(episode: StackEpisode, route_xy: np.ndarray, allowed: np.ndarray, follower, params: Params,
+          hard: Callable[[np.ndarray], float] | None = None) -> Drive:
     """The motion layer following ``route_xy`` (world metres) on ``allowed`` ground among the episode's
     pedestrians, a re-plan every 1 / ``stack.replan_hz`` s of simulated time, until the goal, a static
     collision (clearance below the robot's radius on the truth's hard ground) or ``stack.timeout_s``.
 
     The route is the route layer's walk, finished first (SuReNav's executor senses and re-plans on its own,
     Algorithm 1); where that walk went into a dead end and came back (it met the blockage), the robot,
-    standing where the walk returns, skips the spur: the layers hand over a route, not a shared clock."""
+    standing where the walk returns, skips the spur: the layers hand over a route, not a shared clock.
+    ``hard``: the episode's ``hard_distance`` (built here when not given; an episode's rows share one)."""
     S, res = params.stack, episode.prior.frame.resolution
     dt, reach = 1.0 / S.replan_hz, params.hj.grids.robot.radius_m + params.hj.grids.human.radius_m
     origin = np.asarray(episode.prior.frame.origin, dtype=float)
@@ -66,7 +73,7 @@ def drive(episode: StackEpisode, route_xy: np.ndarray, allowed: np.ndarray, foll
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(route, axis=0), axis=1))])
     heading = math.atan2(*(route[min(3, len(route) - 1)] - route[0])[::-1])
     state = np.array([route[0, 0], route[0, 1], 0.0, heading])
-    hard = _hard_distance(episode)
+    hard = hard_distance(episode) if hard is None else hard
     rows, seconds, contacts, touching, progress = [], [], 0, np.zeros(len(episode.walkers), bool), 0.0
     outcome, t = "timeout", 0.0
     while t < S.timeout_s:
@@ -97,7 +104,7 @@ def drive(episode: StackEpisode, route_xy: np.ndarray, allowed: np.ndarray, foll
     return Drive(np.array(rows), outcome, contacts, np.array(seconds))
 
 
-def _hard_distance(episode: StackEpisode):
+def hard_distance(episode: StackEpisode) -> Callable[[np.ndarray], float]:
     """xy (box metres) -> distance (m) to the truth's hard cells (a building, water, the blockage)."""
     res = episode.prior.frame.resolution
     hard = np.isin(episode.truth, HARD_IDS)
@@ -167,12 +174,6 @@ def load_layers(params: Params, artifacts_dir: str, bank: TerrainBank) -> Layers
     """Every layer from the three tracks' committed artefacts: PACER's phase-3 model, SuReNav's context
     estimator (its main run, seed 0) and D* Lite's costs fitted on the context training demonstrations,
     HJ-search's general TTR and human BRT grids."""
-    from pathlib import Path
-
-    from navlab.surenav.context.dataset import load_context_demos
-    from navlab.surenav.context.training import context_cost, main_run
-    from navlab.surenav.demo_priors import dstar_label_costs, label_traversal
-
     s = params.surenav
     model = load_model(Path(artifacts_dir) / "pacer" / "phase3" / "model.pt", params.pacer.train.device).eval()
     train = load_context_demos(artifacts_dir, "train")
@@ -186,7 +187,7 @@ def run_episode(episode: StackEpisode, layers: Layers, params: Params, rows=ROWS
     """Every row on one episode (the paired design: the same world, route draws and pedestrians)."""
     S = params.stack
     expert = expert_route(episode, params).trajectory
-    pacer = layers.pacer(episode)
+    pacer, hard = layers.pacer(episode), hard_distance(episode)
     out = []
     for row in rows:
         terrain = layers.labels(episode) if row == NO_PACER else pacer
@@ -202,7 +203,7 @@ def run_episode(episode: StackEpisode, layers: Layers, params: Params, rows=ROWS
         follower = layers.point if row == NO_HJ else layers.hj
         route_xy = episode.prior.frame.cell_to_world(walked.trajectory)
         allowed = allowed_ground(episode, walked.trajectory)
-        out.append(measure(episode, row, drive(episode, route_xy, allowed, follower, params), walked.trajectory,
+        out.append(measure(episode, row, drive(episode, route_xy, allowed, follower, params, hard), walked.trajectory,
                            expert, layers.bank_size))
     return out
 

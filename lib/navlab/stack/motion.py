@@ -88,19 +88,45 @@ def window_blocked(allowed: np.ndarray, map_resolution: float, origin_xy, side_m
     return ~(ok & on_map_r[:, None] & on_map_c[None, :])
 
 
-def clear_point(room: RasterRoom, xy: np.ndarray, radius: float, search_m: float = 1.0) -> np.ndarray:
-    """``xy``, or the nearest point within ``search_m`` whose clearance exceeds the radius by a cell (a route
-    drawn through 1 m cell centres may pass closer to a wall than the car fits)."""
-    if room.obstacle_distance(xy[0], xy[1]) > radius + room.res:
+def clear_point(room: RasterRoom, xy: np.ndarray, radius: float, humans: np.ndarray | None = None,
+                keep_off_m: float = 0.0) -> np.ndarray:
+    """``xy``, or the nearest point whose clearance exceeds the radius by a cell and which lies farther than
+    ``keep_off_m`` from every pedestrian in ``humans`` (window frame), searched within a metre beyond that
+    distance; ``xy`` itself where there is none. Why: a route drawn through 1 m cell centres may pass closer to
+    a wall than the car fits, and a route point beside a standing pedestrian lies in its BRT, where no plan may
+    end: the local goal steps aside (the planner then passes the pedestrian where the ground has room, and the
+    car waits where it has none)."""
+    humans = np.zeros((0, 2)) if humans is None else np.asarray(humans, dtype=float).reshape(-1, 2)
+
+    def clear(x, y):
+        ok = room.obstacle_distance(x, y) > radius + room.res
+        for h in humans:
+            ok &= np.hypot(x - h[0], y - h[1]) > keep_off_m
+        return ok
+
+    if clear(np.array([xy[0]]), np.array([xy[1]]))[0]:
         return xy
+    search_m = 1.0 + (keep_off_m if len(humans) else 0.0)
     offsets = np.arange(-search_m, search_m + 1e-9, room.res)
     x, y = np.meshgrid(xy[0] + offsets, xy[1] + offsets)
-    ok = room.obstacle_distance(x, y) > radius + room.res
+    ok = clear(x, y)
     if not ok.any():
         return xy
     d = np.where(ok, np.hypot(x - xy[0], y - xy[1]), np.inf)
     k = np.unravel_index(np.argmin(d), d.shape)
     return np.array([x[k], y[k]])
+
+
+def rest_keep_off(lookup, margin: float) -> float:
+    """The farthest a car at rest (v = 0) can be from a pedestrian and still lie in the stored human-robot BRT
+    (value <= ``margin``, any bearing), plus one grid cell: a goal at least this far from every pedestrian is
+    one the FI / FS pruners can accept."""
+    grid, values = lookup.grid, lookup.stored.values
+    axes = [np.linspace(lo, hi, n) for lo, hi, n in zip(grid.lo, grid.hi, grid.shape)]
+    rest = values[:, :, int(np.argmin(np.abs(axes[2])))]
+    radius = np.hypot(*np.meshgrid(axes[0], axes[1], indexing="ij"))
+    cell = max((hi - lo) / (n - 1) for lo, hi, n in zip(grid.lo[:2], grid.hi[:2], grid.shape[:2]))
+    return float(radius[rest <= margin].max(initial=lookup.collision_radius)) + cell
 
 
 @dataclass(frozen=True)
@@ -131,17 +157,19 @@ class HJFollower:
         self.decel = -params.hj.grids.robot.accel_min
         self.side, self.res = S.window_m, S.window_resolution_m
         self.table = primitive_table(self.spec)  # once: the search would rebuild it on every re-plan
+        self.clearance_resolution_m = CLEARANCE_RESOLUTION_M
+        self.keep_off_m = rest_keep_off(self.human_brt, fi.margin)
 
     def step(self, state: np.ndarray, allowed: np.ndarray, map_resolution: float, goal_xy, final: bool,
              humans: np.ndarray, dt: float) -> Step:
         origin = state[:2] - self.side / 2
         room = RasterRoom(window_blocked(allowed, map_resolution, origin, self.side, self.res), self.res)
         local = state - [origin[0], origin[1], 0.0, 0.0]
-        goal = clear_point(room, np.asarray(goal_xy, dtype=float) - origin, self.radius)
         near = humans[np.linalg.norm(humans - state[:2], axis=1) <= self.side] - origin if len(humans) else humans
+        goal = clear_point(room, np.asarray(goal_xy, dtype=float) - origin, self.radius, near, self.keep_off_m)
         P = self.params.hj.planner
-        pruners = Pruners(static=obs_point_pruner(room, self.radius, CLEARANCE_RESOLUTION_M),
-                          collision=obs_pruner(room, self.radius, CLEARANCE_RESOLUTION_M),
+        pruners = Pruners(static=obs_point_pruner(room, self.radius, self.clearance_resolution_m),
+                          collision=obs_pruner(room, self.radius, self.clearance_resolution_m),
                           **({"human": human_pruner(self.human_brt, near, "fi", self.fi)} if len(near) else {}))
         try:
             result = search(self.spec, room.bounds, local, Goal(tuple(goal), P.goal_tolerance_astar_m,
@@ -186,7 +214,8 @@ class PointCheckFollower:
         for h in humans - origin:
             free &= np.hypot(x - h[0], y - h[1]) > self.reach
         here = tuple(np.clip(np.floor((state[[1, 0]] - origin[::-1]) / self.res).astype(int), 0, len(centres) - 1))
-        goal = clear_point(room, np.asarray(goal_xy, dtype=float) - origin, self.radius)
+        goal = clear_point(room, np.asarray(goal_xy, dtype=float) - origin, self.radius, humans - origin,
+                           self.reach + self.res)
         there = tuple(np.clip(np.floor(goal[::-1] / self.res).astype(int), 0, len(centres) - 1))
         free[here] = True
         found = grid_plan(np.where(free, 1.0, np.inf), here, there, resolution=self.res).cells if free[there] else None

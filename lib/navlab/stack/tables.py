@@ -42,11 +42,11 @@ def _ci(values) -> list[float]:
     return [round(float(v), 4) for v in values]
 
 
-def ablation_table(outcomes: list[Outcome]) -> Table:
+def ablation_table(outcomes: list[Outcome], params: Params) -> Table:
     """Table: one row per stack row, each metric's mean over episodes and its interval, and the re-plan
     time's 95th percentile (wall clock, this machine)."""
     rows = []
-    for entry in paired_rows(outcomes, seed=0):
+    for entry in paired_rows(outcomes, seed=params.stack.seed):
         row = {"row": entry["row"], "episodes": entry["episodes"]}
         for metric in METRICS:
             row[metric], row[f"{metric}_ci"] = entry[metric][0], _ci(entry[metric][1:])
@@ -85,4 +85,4 @@ def stack_tables(outcomes: list[Outcome], params: Params) -> list[Table]:
     missing = [row for row in ROWS if not any(o.row == row for o in outcomes)]
     if missing:
         raise ValueError(f"no outcome for {', '.join(missing)}: run every row of stack.ablation.ROWS")
-    return [ablation_table(outcomes), layer_effects_table(outcomes, params)]
+    return [ablation_table(outcomes, params), layer_effects_table(outcomes, params)]
