@@ -26,13 +26,13 @@ from navlab.metrics.relaxation import relaxed_regions, set_iou
 from navlab.pacer.preferences import environment_tiers
 from navlab.pacer.terrain import TerrainBank
 from navlab.pacer.train import load_model
-from navlab.surenav.context.dataset import load_context_demos
-from navlab.surenav.context.training import context_cost, main_run
-from navlab.surenav.demo_priors import dstar_label_costs, label_traversal
 from navlab.stack.motion import HJFollower, PointCheckFollower, allowed_ground
 from navlab.stack.route import TerrainDStarLite, TerrainSuReNavPolicy, expert_route, walk_route
 from navlab.stack.terrain import label_costs, pacer_costs
 from navlab.stack.world import StackEpisode
+from navlab.surenav.context.dataset import load_context_demos
+from navlab.surenav.context.training import context_cost, main_run
+from navlab.surenav.demo_priors import dstar_label_costs, label_traversal
 
 STACK = "stack (PACER + SuReNav + HJ-search)"
 NO_PACER = "label costs for PACER"
