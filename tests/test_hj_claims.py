@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import types
 import re
 from pathlib import Path
 
@@ -141,10 +142,43 @@ def test_the_forward_only_rows_get_our_reversing_check_per_heuristic():
     claims = hc.search_claims("table2_heuristics_anastar", results, seed=0)
     ours = {c.claim: c.verdict for c in claims if c.source == "ours"}
     assert ours == {"ANA* w/ Dist: the reversing car's plans cost less than the forward-only car's": "holds",
-                    "ANA* w/ TTR: the reversing car's plans cost less than the forward-only car's": "inconclusive"}
+                    "ANA* w/ TTR: the reversing car's plans cost less than the forward-only car's": "inconclusive",
+                    # both cars solve all 12: a tie in success, never "holds"
+                    "ANA* w/ Dist: the reversing car solves more tasks than the forward-only car": "inconclusive",
+                    "ANA* w/ TTR: the reversing car solves more tasks than the forward-only car": "inconclusive"}
     paper = {c.key: c.verdict for c in claims if c.source == "paper"}
     assert paper == {c.key: c.verdict for c in hc.search_claims(
         "table2_heuristics_anastar", {m: results[m] for m in ("ANA* w/ Dist", "ANA* w/ TTR")}, seed=0)}
+
+
+def test_the_pruning_tables_check_the_forward_only_cars_obs_rows():
+    """Tables III-V: the OBS rows run with the forward-only car get our reversing checks (the reversing car
+    solving 8 more of 12 tasks: holds), and they leave the paper's claims as they were."""
+    results = {"ANA* w/ OBS": tasks([True] * 12), "ANA* w/ BRT": tasks([True] * 12),
+               "ANA* w/ OBS" + hc.FORWARD_ONLY: tasks([i < 4 for i in range(12)])}
+    claims = hc.search_claims("table4_pruning_anastar", results, seed=0)
+    ours = {c.claim: c.verdict for c in claims if c.source == "ours"}
+    assert ours["ANA* w/ OBS: the reversing car solves more tasks than the forward-only car"] == "holds"
+    paper = {c.key: c.verdict for c in claims if c.source == "paper"}
+    assert paper == {c.key: c.verdict for c in hc.search_claims(
+        "table4_pruning_anastar", {m: results[m] for m in ("ANA* w/ OBS", "ANA* w/ BRT")}, seed=0)}
+
+
+def test_the_closed_loop_tables_check_the_forward_only_cars_trips():
+    """Tables VI, VIII, IX: per method, the reversing car's trips against the forward-only car's, paired by cell,
+    run and leg over every cell both ran (exact McNemar): 8 trips only the reversing car completes hold, a
+    method without a forward-only row gets no check, and a tie is inconclusive."""
+    def run(ok):
+        return types.SimpleNamespace(trips=[types.SimpleNamespace(success=s) for s in ok])
+
+    runs = {("FI-BRT", "a"): [run([True] * 6)], ("FI-BRT", "b"): [run([True] * 6)],
+            ("FI-BRT" + hc.FORWARD_ONLY, "a"): [run([False] * 4 + [True] * 2)],
+            ("FI-BRT" + hc.FORWARD_ONLY, "b"): [run([False] * 4 + [True] * 2)],
+            ("FS-BRT", "a"): [run([True] * 6)], ("FS-BRT" + hc.FORWARD_ONLY, "a"): [run([True] * 6)],
+            ("OBS", "a"): [run([True] * 6)]}
+    checks = {c.claim: c.verdict for c in hc.loop_reversing_checks(runs)}
+    assert checks == {"FI-BRT: the reversing car completes more trips than the forward-only car": "holds",
+                      "FS-BRT: the reversing car completes more trips than the forward-only car": "inconclusive"}
 
 
 def test_table4_checks_that_brt_expands_fewer_nodes_than_obs():

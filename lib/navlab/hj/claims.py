@@ -379,21 +379,24 @@ def dense_check(results: Mapping[str, Sequence]) -> list[Claim]:
                  "a plan failing the dense check is a bug there: the swept collision check rules it out")]
 
 
-FORWARD_ONLY = ", forward-only car (ours)"  # suffix of the forward-only car's variant rows (Tables I-II, Fig. 2)
+FORWARD_ONLY = ", forward-only car (ours)"  # suffix of the forward-only car's variant rows (Tables I-IX, Fig. 2)
 
 
-def reversing_checks(results: Mapping[str, Sequence], algorithm: str, seed: int) -> list[Claim]:
-    """Ours, where a table has the forward-only car's rows (``navlab.hj.grids.forward_only``): per heuristic,
-    the paper's reversing car's plans cost less than the forward-only car's, paired over the tasks both
-    solved; what reversing buys the search the paper describes (Sec. VII-A, Fig. 6)."""
+def reversing_checks(results: Mapping[str, Sequence], rows: Sequence[str], seed: int) -> list[Claim]:
+    """Ours, for each of ``rows`` that the table also runs with the forward-only car (``row + FORWARD_ONLY``,
+    ``navlab.hj.grids.forward_only``): the paper's reversing car solves more of the tasks, and its plans cost
+    less, paired over the tasks (both solved); what reversing buys the search the paper describes (Sec. VII-A,
+    Fig. 6)."""
     out = []
-    for heuristic in ("Dist", "TTR"):
-        a = f"{algorithm} w/ {heuristic}"
+    for a in rows:
         b = a + FORWARD_ONLY
         if b in results:
-            key = f"reversing_{algorithm}_{heuristic}"
-            out.append(ours(f"{a}: the reversing car's plans cost less than the forward-only car's",
-                            _below(results, a, b, "cost", seed, key), _means(results, (a, b), "cost")))
+            key = "reversing_" + a.replace(" w/ ", "_").replace(" ", "_")  # Tables I-II: reversing_A*_Dist
+            out += [ours(f"{a}: the reversing car solves more tasks than the forward-only car", _more(results, a, b),
+                         f"solved: {a} {sum(r.success for r in results[a])}, forward-only "
+                         f"{sum(r.success for r in results[b])} of {len(results[a])}"),
+                    ours(f"{a}: the reversing car's plans cost less than the forward-only car's",
+                         _below(results, a, b, "cost", seed, key), _means(results, (a, b), "cost"))]
     return out
 
 
@@ -474,7 +477,7 @@ def table1_claims(results: Mapping[str, Sequence], lattice, seed: int) -> list[C
                                  same, "a heuristic that overestimates the lattice's cost-to-go (not admissible) "
                                        "returns a costlier plan"),
         *dense_check(results),
-        *reversing_checks(results, "A*", seed),
+        *reversing_checks(results, (d, t), seed),
     ]
 
 
@@ -525,7 +528,7 @@ def table2_claims(results: Mapping[str, Sequence], seed: int) -> list[Claim]:
         c["t2_common_dist_cheaper"].decide(_below(results, d, t, "cost", seed, "t2_common_dist_cheaper"),
                                            _means(results, (d, t), "cost")),
         *dense_check(results),
-        *reversing_checks(results, "ANA*", seed),
+        *reversing_checks(results, (d, t), seed),
     ]
 
 
@@ -547,6 +550,7 @@ def table3_claims(results: Mapping[str, Sequence], seed: int) -> list[Claim]:
                                                         "lower", _rng(seed, "t3_optimized_gain"), "tasks", (b, o)),
                                       "our compiled search's seconds per task"),
         *dense_check(results),
+        *reversing_checks(results, (o,), seed),
     ]
 
 
@@ -575,6 +579,7 @@ def table4_claims(results: Mapping[str, Sequence], seed: int) -> list[Claim]:
         c["t4_similar_cost"].decide(_par(results, b, o, "cost", seed, "t4_similar_cost"),
                                     _means(results, (b, o), "cost")),
         *dense_check(results),
+        *reversing_checks(results, (o,), seed),
     ]
 
 
@@ -612,6 +617,7 @@ def table5_claims(results: Mapping[str, Sequence], seed: int) -> list[Claim]:
         c["t5_brt_success_ttr"].decide(_more(results, tb, to)),
         c["t5_brt_success_dist"].decide(_more(results, db, do)),
         *dense_check(results),
+        *reversing_checks(results, (do, to), seed),
     ]
 
 
@@ -697,6 +703,26 @@ def _paired_trips(cells: Mapping[str, Sequence]) -> None:
     lengths = {m: len(ts) for m, ts in cells.items()}
     if len(set(lengths.values())) != 1:
         raise ValueError(f"trips pair by run and leg, but the methods ran different numbers of trips: {lengths}")
+
+
+def loop_reversing_checks(runs: Mapping[tuple[str, object], Sequence]) -> list[Claim]:
+    """Ours, where a closed-loop table (VI, VIII, IX) has the forward-only car's rows (``method + FORWARD_ONLY``):
+    per method, the paper's reversing car completes more trips than the forward-only car, trips paired by cell,
+    run and leg (the same seeds and humans for both cars), exact McNemar."""
+    out = []
+    for method in dict.fromkeys(m for m, _ in runs if not m.endswith(FORWARD_ONLY)):
+        cells = [cell for m, cell in runs if m == method and (method + FORWARD_ONLY, cell) in runs]
+        if not cells:
+            continue
+        mine = [t.success for cell in cells for t in _trips(runs, (method, cell))]
+        forward = [t.success for cell in cells for t in _trips(runs, (method + FORWARD_ONLY, cell))]
+        if len(mine) != len(forward):
+            test = Test("inconclusive", f"the two cars ran different numbers of trips ({len(mine)}, {len(forward)})")
+        else:
+            test = paired_success(mine, forward, "higher", "trips", (method, method + FORWARD_ONLY))
+        out.append(ours(f"{method}: the reversing car completes more trips than the forward-only car", test,
+                        f"over {', '.join(map(str, cells))}"))
+    return out
 
 
 def table8_claims(runs: Mapping[tuple[str, str], Sequence], seed: int) -> list[Claim]:

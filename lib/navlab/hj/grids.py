@@ -11,9 +11,9 @@ every grid stale:
 - ``human_brt.npy``: human-robot BRT in the robot's body frame, (p_x, p_y, v);
 - ``map_ttr.npy``: map-based TTR to the goal ``hj.grids.map_ttr.goal_xy`` of one room (reach-avoid),
   (x, y, v, θ) over the room;
-- ``forward_only/hj/{ttr,map_ttr}.npy``: the two TTRs of the forward-only car (v >= 0), for the labelled
-  variant rows of Tables I-II and Fig. 2 (issue 59); ``forward_only_root`` is an artefact root of the same
-  layout, so ``load_ttr(forward_only(params), forward_only_root(artifacts_dir))`` reads them. Built only
+- ``forward_only/hj/{ttr,map_ttr,human_brt}.npy``: the two TTRs and the human-robot BRT of the forward-only
+  car (v >= 0), for the labelled variant rows of Tables I-IX and Fig. 2 (issue 59); ``forward_only_root`` is
+  an artefact root of the same layout, so ``load_ttr(forward_only(params), forward_only_root(artifacts_dir))`` reads them. Built only
   when the car reverses (v_min < 0).
 
 ``build_hj_grids`` is the ``hj_grids`` artefact step; it skips files whose sidecar already records the
@@ -227,7 +227,8 @@ def forward_only(params: Params) -> Params:
     grids = dataclasses.replace(
         g, robot=dataclasses.replace(g.robot, v_min=0.0),
         ttr=dataclasses.replace(g.ttr, shape=cut(g.ttr.shape, "hj.grids.ttr.shape[2]")),
-        static_brt=dataclasses.replace(g.static_brt, shape=cut(g.static_brt.shape, "hj.grids.static_brt.shape[2]")))
+        static_brt=dataclasses.replace(g.static_brt, shape=cut(g.static_brt.shape, "hj.grids.static_brt.shape[2]")),
+        human_brt=dataclasses.replace(g.human_brt, shape=cut(g.human_brt.shape, "hj.grids.human_brt.shape[2]")))
     lattice = dataclasses.replace(
         lat, speed_levels=_forward_points(lat.speed_levels, v0, v1, "hj.planner.lattice.speed_levels"))
     planner = dataclasses.replace(params.hj.planner, lattice=lattice)
@@ -240,12 +241,14 @@ def forward_only_root(artifacts_dir: str | Path) -> Path:
 
 
 def _builds(params: Params, artifacts_dir: str | Path) -> list[tuple[GridSpec, Path]]:
-    """(spec, file) of every grid ``hj_grids`` stores: the paper's car's, then the forward-only car's TTRs."""
+    """(spec, file) of every grid ``hj_grids`` stores: the paper's car's, then the forward-only car's TTRs and
+    human-robot BRT (its variant rows of Tables I-II, Fig. 2 and the OBS-checked rows of Tables III-IX; its
+    static BRTs are not built: each would need its own margin solve, ``hj_margins``' largest cost)."""
     out = [(spec, grid_path(artifacts_dir, spec.name)) for spec in specs(params)]
     if params.hj.grids.robot.v_min < 0:
         forward = forward_only(params)
         out += [(spec, grid_path(forward_only_root(artifacts_dir), spec.name))
-                for spec in (ttr_spec(forward), map_ttr_spec(forward))]
+                for spec in (ttr_spec(forward), map_ttr_spec(forward), human_brt_spec(forward))]
     return out
 
 

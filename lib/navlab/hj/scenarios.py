@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from navlab.core.params import Params
-from navlab.hj.grids import load_human_brt, load_ttr
+from navlab.hj.grids import forward_only, forward_only_root, load_human_brt, load_ttr
 from navlab.hj.guidance import dist_heuristic, ttr_heuristic
 from navlab.hj.humans import HumanStream, PatrolHuman, StraightWalker
 from navlab.hj.lattice_policy import LatticePolicy
@@ -255,6 +255,15 @@ def _start_worker(params: Params, artifacts_dir: str | Path) -> None:
 def _call(call: tuple[str, tuple]) -> Run:
     name, args = call
     return getattr(_WORKER_LOOP, name)(*args)
+
+
+def forward_only_loop(params: Params, artifacts_dir: str | Path, log=print) -> ClosedLoop | None:
+    """The forward-only car's closed loop (v >= 0, its own TTR and human-robot BRT,
+    ``navlab.hj.grids.forward_only``) for the labelled variant rows of Tables VI, VIII and IX, which check the
+    walls with OBS (its static BRT is not built); None when the paper's car does not reverse."""
+    if params.hj.grids.robot.v_min >= 0:
+        return None
+    return ClosedLoop(forward_only(params), forward_only_root(artifacts_dir), log)
 
 
 def run_cells(loop: ClosedLoop, cells: Mapping[Hashable, Sequence[tuple[str, tuple]]],

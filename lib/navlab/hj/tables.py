@@ -43,6 +43,11 @@ TABLE6_COLUMNS = ["method", "scenario", "success", "runs", "success_rate", "succ
 
 FORWARD_ONLY_NOTE = ("Rows 'forward-only car (ours)': the old default, v in [0, v_max] in the lattice (the same "
                      "speed spacing) with its own TTR grid (navlab.hj.grids.forward_only), the paper's OBS check.")
+FORWARD_ONLY_LOOP_NOTE = ("Rows 'forward-only car (ours)': the old default, v in [0, v_max] in the lattice and the "
+                          "simulator, with its own TTR and human-robot BRT (navlab.hj.grids.forward_only); walls "
+                          "by OBS (its static BRT is not built).")
+FORWARD_ONLY_OBS_NOTE = (FORWARD_ONLY_NOTE + " Its BRT rows are not run: the forward-only car's static BRT would need "
+                         "its own margin solve (hj_margins, the HJ part's largest cost).")
 PRUNER_NOTE = ("OBS is the paper's conventional instantaneous check (clearance at the states the search samples, 4 "
                "per 0.5 s step), BRT the static BRT there (Eq. 12); a plan either passes that grazes an obstacle "
                "between samples fails the paper's dense check (8 points per sample under the dynamics) and counts as "
@@ -132,7 +137,7 @@ def table3(results: Mapping[str, list], margin: float, margin_report: Mapping, s
              f"solve ({m['scheme']}; largest stored value at a node the finer solve calls unsafe; "
              f"{m['missed_unsafe_nodes']} such nodes). Costs: dt*(1 + w*exp(-decay*clearance)), not Nav2's "
              "0-252 scale, so magnitudes differ from the paper. time_s: our compiled search. Paper node counts "
-             "are blank in its text (it states a 15.1% reduction).")
+             "are blank in its text (it states a 15.1% reduction). " + FORWARD_ONLY_OBS_NOTE)
     return _search_table("table3_pruning_astar", rows, astar_rows(rows), setup,
                          hj_claims.search_claims("table3_pruning_astar", results, seed))
 
@@ -142,7 +147,7 @@ def table4(results: Mapping[str, list], margin: float, seed: int, max_expansions
     rows = _rows(results, seed)
     setup = (f"ANA* with the Dist heuristic; BRT margin {margin:.4f}. {anytime_budget(dict(results), max_expansions)} "
              "nodes = expansions to the first solution, cost = final solution; success needs the densified check. "
-             "95% bootstrap CIs over tasks, Wilson for success.")
+             "95% bootstrap CIs over tasks, Wilson for success. " + FORWARD_ONLY_OBS_NOTE)
     return _search_table("table4_pruning_anastar", rows, ana_rows(rows), setup,
                          hj_claims.search_claims("table4_pruning_anastar", results, seed))
 
@@ -153,7 +158,7 @@ def table5(results: Mapping[str, list], margin: float, seed: int, planner: Plann
     t5 = planner.table5
     setup = (f"{t5.pairs} pairs drawn with seed hj.seed, blocked line of sight or >= {t5.min_distance_m} m apart; "
              f"BRT margin {margin:.4f}. {anytime_budget(dict(results), planner.anastar_max_expansions)} 95% bootstrap "
-             "CIs over tasks, Wilson for success.")
+             "CIs over tasks, Wilson for success. " + FORWARD_ONLY_OBS_NOTE)
     return _search_table("table5_static_general", rows, ana_rows(rows), setup,
                          hj_claims.search_claims("table5_static_general", results, seed))
 
@@ -183,9 +188,9 @@ def table6(rows: Sequence[dict], runs: Mapping[tuple[str, str], Sequence[Run]], 
              f"when the car first left the head-on line by {t6.detour_lateral_m} m (Fig. 8). Speed: "
              f"{speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall on the shared 2-core machine "
              f"({speed['simulated_s'] / speed['wall_s']:.1f}x real time, {speed['cpu_s']:.0f} s CPU); re-plan median "
-             f"{speed['plan_median_ms']:.1f} ms. ")
+             f"{speed['plan_median_ms']:.1f} ms. " + FORWARD_ONLY_LOOP_NOTE)
     return _loop_table("table6_dynamic", "HJ-search Table VI, Fig. 8", TABLE6_COLUMNS, rows, setup,
-                       hj_claims.table6_claims(runs, dynamic))
+                       [*hj_claims.table6_claims(runs, dynamic), *hj_claims.loop_reversing_checks(runs)])
 
 
 TABLE8_COLUMNS = ["method", "room", "success", "trips", "success_rate", "success_rate_ci", "time_s", "wall_hits",
@@ -211,10 +216,10 @@ def table8(rows: Sequence[dict], runs: Mapping[tuple[str, str], Sequence[Run]], 
              f"Success counts with Wilson 95% CIs; time_s: total time of the successful trips (null = 'Failed'). "
              f"Speed: {speed['simulated_s']:.0f} s simulated in {speed['wall_s']:.0f} s wall ({speed['cpu_s']:.0f} s CPU) "
              f"on the shared 2-core machine; Dense Room re-plan median {dense_plan_median_ms:.1f} ms "
-             f"(target <= 83 ms). ")
+             f"(target <= 83 ms). " + FORWARD_ONLY_LOOP_NOTE)
     by_room = {(method, ROOM_NAMES[room]): cell for (method, room), cell in runs.items()}
     return _loop_table("table8_rooms", "HJ-search Table VIII", TABLE8_COLUMNS, rows, setup,
-                       hj_claims.table8_claims(by_room, dynamic.seed))
+                       [*hj_claims.table8_claims(by_room, dynamic.seed), *hj_claims.loop_reversing_checks(by_room)])
 
 
 def table9(rows: Sequence[dict], runs: Mapping[tuple[str, int], Sequence[Run]], dynamic: DynamicParams, rules: str,
@@ -231,9 +236,9 @@ def table9(rows: Sequence[dict], runs: Mapping[tuple[str, int], Sequence[Run]], 
              f"the pruner had accepted, not while braking without one); trip success with Wilson 95% CIs; "
              f"collision/deadlock/timeout: failed trips by cause. {rules} Speed: {speed['simulated_s']:.0f} s simulated "
              f"in {speed['wall_s']:.0f} s wall ({speed['simulated_s'] / speed['wall_s']:.1f}x real time, "
-             f"{speed['cpu_s']:.0f} s CPU, shared 2-core machine). ")
+             f"{speed['cpu_s']:.0f} s CPU, shared 2-core machine). " + FORWARD_ONLY_LOOP_NOTE)
     return _loop_table("table9_humans", "HJ-search Table IX", TABLE9_COLUMNS, rows, setup,
-                       hj_claims.table9_claims(runs, dynamic.seed))
+                       [*hj_claims.table9_claims(runs, dynamic.seed), *hj_claims.loop_reversing_checks(runs)])
 
 
 def sensitivity_budget(results, dynamic: DynamicParams, rules: str) -> Table:
