@@ -85,6 +85,7 @@ class StackEpisode:
     context: np.ndarray  # (3n, 2h, w) PACER's preference context drawn from ``ordering``
     persona: int  # the context demonstrator's persona (SuReNav's Expert) for this episode
     walkers: tuple[Walker, ...]
+    walkway: np.ndarray | None = None  # (K, 2) cells: the walkway route (start to goal) the blockage was put on
 
 
 @dataclass(frozen=True)
@@ -309,7 +310,8 @@ def stack_episode(index: int, tiles: list[SemanticMap], params: Params, bank: Te
     s, g = _ends(local)
     return StackEpisode(f"{tile.name}/{index}", prior, labels, graph.superpixels, s, g, terrains,
                         np.ascontiguousarray(painted.transpose(2, 0, 1)), preference, ordering, context,
-                        index % len(CONTEXT_PERSONAS), walkers + tuple(_standing(path, f) for f in choices.standing))
+                        index % len(CONTEXT_PERSONAS), walkers + tuple(_standing(path, f) for f in choices.standing),
+                        local)
 
 
 def stack_episodes(params: Params, data_dir: str, bank: TerrainBank, count: int | None = None) -> list[StackEpisode]:

@@ -71,7 +71,7 @@ def _relaxed(episode: StackEpisode, route_cells: np.ndarray) -> np.ndarray:
 def episode_figure(episode: StackEpisode, outcomes: Sequence[Outcome], costs: np.ndarray,
                    costs_name: str = "PACER's costs") -> Figure:
     """Three panels of one episode: labels as they are (the blockage in; the soft regions the route relaxed
-    hatched: the stack's, else the first row's), the terrain costs (black = preferred), the aerial image with
+    hatched: the stack's, else the first row's; the walkway route grey), the terrain costs (black = preferred), the aerial image with
     the operator's context. No outcome: the episode before a drive (the pedestrians' planned walk)."""
     fig = Figure(figsize=(15, 5.4))
     axes = fig.subplots(1, 3)
@@ -82,6 +82,9 @@ def episode_figure(episode: StackEpisode, outcomes: Sequence[Outcome], costs: np
     changed = episode.truth != episode.prior.labels
     if changed.any():
         axes[0].contour(changed, levels=[0.5], colors="red", linewidths=1.5)
+    if episode.walkway is not None:  # where a map router would go, and the blockage was put
+        axes[0].plot(episode.walkway[:, 1], episode.walkway[:, 0], color="0.4", linewidth=1.0, linestyle="--",
+                     label="walkway route")
     _tracks(axes[0], episode, outcomes)
     axes[0].set_title(f"{episode.name}: labels, blockage (red), relaxed regions (hatched)", fontsize=9)
     axes[0].axis("off")
@@ -93,7 +96,7 @@ def episode_figure(episode: StackEpisode, outcomes: Sequence[Outcome], costs: np
     inset = axes[2].inset_axes([0.0, 0.0, 0.3, 0.3])
     inset.imshow(np.clip(context_strip(episode.context), 0, 1))
     inset.axis("off")
-    if outcomes:
+    if outcomes or episode.walkway is not None:
         axes[0].legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.02))
     fig.tight_layout()
     return fig
