@@ -400,14 +400,11 @@ class StackView(PlaygroundView):
             p.report = lambda seconds: None
 
     def snapshot(self):
-        """The episode with the drive's tracks and its last moment, as PNG outputs (what papermill keeps)."""
+        """The episode with the drive's tracks as a PNG image output: what an executed notebook (papermill) keeps."""
         from IPython.display import Image
 
         p = self.playground
-        shown = [Image(figure_bytes(self._episode_figure(*p.key(), p.key() in p.driven), "png"))]
-        if p.shown() is not None:
-            shown.append(Image(self._moment_png()))
-        return shown
+        return Image(figure_bytes(self._episode_figure(*p.key(), p.key() in p.driven), "png"))
 
     def status(self) -> str:
         return self.playground.summary()
