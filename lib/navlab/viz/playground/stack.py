@@ -18,7 +18,6 @@ drive per choice and row, so going back to a choice shows its drive at once.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import html
 import math
@@ -334,7 +333,7 @@ class StackView(PlaygroundView):
         self.blockage = widgets.ToggleButtons(options=BLOCKAGES, description="blockage",
                                               tooltips=["the episode's drawn blockage", "one at the slider's place",
                                                         "no blockage"], style={"button_width": "70px"})
-        self.blockage_at = widgets.FloatSlider(0.5, min=0.05, max=0.95, step=0.01, description="at (route)",
+        self.blockage_at = widgets.FloatSlider(0.5, min=0.01, max=0.99, step=0.01, description="at (route)",
                                                continuous_update=False)
         self.pedestrians = widgets.IntSlider(p.params.stack.pedestrians, min=0, max=8, description="pedestrians",
                                              continuous_update=False)
@@ -414,11 +413,7 @@ class StackView(PlaygroundView):
         drive = p.shown()
         self.result.value = self._figures(*p.key(), p.key() in p.driven)
         self.summary.value = f"<b>{html.escape(p.summary())}</b>"
-        frames = 0 if drive is None else math.ceil(drive.outcome.trajectory[-1, 0] / FRAME_S - 1e-9)
-        with self._synced():
-            self._sync_controls()
-            self.frame.max = self.play.max = frames
-            self.frame.value = min(round(p.t / FRAME_S), frames)
+        self._sync_controls()
         self.moment.layout.display = "none" if drive is None else None
         if drive is not None:
             self.moment.value = self._moment_png()
@@ -427,17 +422,25 @@ class StackView(PlaygroundView):
             self.clock.value = ""
 
     def _sync_controls(self) -> None:
-        """The controls show the state (a scenario or a refused change may leave them elsewhere)."""
-        p, c = self.playground, self.playground.choices
-        self.index.value, self.row.value = p.index, p.row
-        self.preference.value = p.episode().preference if c.order is None else self.preference.value
-        self.order.value = "" if c.order is None else " > ".join(c.order)
-        self.blockage.value = "none" if not c.blockage else "drawn" if c.blockage_at is None else "at"
-        if c.blockage_at is not None:
-            self.blockage_at.value = c.blockage_at
-        self.pedestrians.value = p.params.stack.pedestrians if c.pedestrians is None else c.pedestrians
-        self.speed.value = p.params.hj.grids.human.speed if c.speed is None else c.speed
-        self.standing.value = ", ".join(f"{f:g}" for f in c.standing)
+        """The controls show the state (a scenario or a refused change may leave them elsewhere), the time
+        slider spans the drive shown; their observers do not act on what the code sets."""
+        p, c, drive = self.playground, self.playground.choices, self.playground.shown()
+        frames = 0 if drive is None else math.ceil(drive.outcome.trajectory[-1, 0] / FRAME_S - 1e-9)
+        self._syncing = True
+        try:
+            self.index.value, self.row.value = p.index, p.row
+            self.preference.value = p.episode().preference if c.order is None else self.preference.value
+            self.order.value = "" if c.order is None else " > ".join(c.order)
+            self.blockage.value = "none" if not c.blockage else "drawn" if c.blockage_at is None else "at"
+            if c.blockage_at is not None:
+                self.blockage_at.value = c.blockage_at
+            self.pedestrians.value = p.params.stack.pedestrians if c.pedestrians is None else c.pedestrians
+            self.speed.value = p.params.hj.grids.human.speed if c.speed is None else c.speed
+            self.standing.value = ", ".join(f"{f:g}" for f in c.standing)
+            self.frame.max = self.play.max = frames
+            self.frame.value = min(round(p.t / FRAME_S), frames)
+        finally:
+            self._syncing = False
 
     def _figure(self, index: int, choices: EpisodeChoices, row: str, driven: bool) -> bytes:
         return figure_bytes(self._episode_figure(index, choices, row, driven), "jpeg")
@@ -465,16 +468,5 @@ class StackView(PlaygroundView):
         """As every view's; a refused change puts the controls back on the state."""
         done = super().act(action, *args)
         if not done:
-            with self._synced():
-                self._sync_controls()
+            self._sync_controls()
         return done
-
-    @contextlib.contextmanager
-    def _synced(self):
-        """While the code sets a control, its observer does not act on the change."""
-        self._syncing = True
-        try:
-            yield
-        finally:
-            self._syncing = False
-
