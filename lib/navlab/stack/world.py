@@ -80,7 +80,7 @@ class StackEpisode:
     goal: tuple[int, int]
     terrain: np.ndarray  # (H, W) int64 terrain id painted on each cell of the truth
     aerial: np.ndarray  # (3, zH, zW) float32 in [0, 1]: the truth painted at PACER's ground scale
-    preference: str  # the operator's order: realistic or inverted
+    preference: str  # the operator's order: realistic or inverted (custom: a person's EpisodeChoices.order)
     ordering: np.ndarray  # the operator's order of the terrains in view, most preferred first
     context: np.ndarray  # (3n, 2h, w) PACER's preference context drawn from ``ordering``
     persona: int  # the context demonstrator's persona (SuReNav's Expert) for this episode
