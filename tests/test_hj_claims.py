@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import types
 import re
+import types
 from pathlib import Path
 
 import numpy as np
