@@ -47,8 +47,8 @@ def _with(params, **solver):
 
 def test_rebuild_reuses_current_files(built, smoke_params):
     before = {p: p.stat().st_mtime_ns for p in (built / "hj").rglob("*.npy")}
-    # ttr, human_brt, map_ttr + one BRT per room; the forward-only car's ttr and map_ttr
-    assert len(before) == 3 + len(smoke_params.hj.grids.rooms) + 2
+    # ttr, human_brt, map_ttr + one BRT per room; the forward-only car's ttr, map_ttr and human_brt
+    assert len(before) == 3 + len(smoke_params.hj.grids.rooms) + 3
     logs = []
     build_hj_grids(smoke_params, "unused", built, progress=False, log=logs.append)
     assert all("up to date" in m for m in logs) and len(logs) == len(before)
