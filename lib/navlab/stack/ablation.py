@@ -29,7 +29,7 @@ from navlab.pacer.train import load_model
 from navlab.stack.motion import HJFollower, PointCheckFollower, allowed_ground
 from navlab.stack.route import TerrainDStarLite, TerrainSuReNavPolicy, expert_route, walk_route
 from navlab.stack.terrain import label_costs, pacer_costs
-from navlab.stack.world import StackEpisode
+from navlab.stack.world import StackEpisode, arc_length
 from navlab.surenav.context.dataset import load_context_demos
 from navlab.surenav.context.training import context_cost, main_run
 from navlab.surenav.demo_priors import dstar_label_costs, label_traversal
@@ -70,7 +70,7 @@ def drive(episode: StackEpisode, route_xy: np.ndarray, allowed: np.ndarray, foll
     dt, reach = 1.0 / S.replan_hz, params.hj.grids.robot.radius_m + params.hj.grids.human.radius_m
     origin = np.asarray(episode.prior.frame.origin, dtype=float)
     route = route_xy - origin
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(route, axis=0), axis=1))])
+    arc = arc_length(route)
     heading = math.atan2(*(route[min(3, len(route) - 1)] - route[0])[::-1])
     state = np.array([route[0, 0], route[0, 1], 0.0, heading])
     hard = hard_distance(episode) if hard is None else hard

@@ -32,7 +32,7 @@ from navlab.hj.pruners import FIParams, human_pruner, obs_point_pruner, obs_prun
 from navlab.search.dubins_lattice import densify, primitive_table
 from navlab.search.grid_astar import plan as grid_plan
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
-from navlab.stack.world import StackEpisode
+from navlab.stack.world import StackEpisode, arc_length
 
 # the pruners' clearance raster: the window's own cells are 0.1 m and exact to half of one, so a finer raster
 # buys nothing; at 0.05 m it costs a quarter of the 0.02 m the rooms use (the swept check's allowance, half the
@@ -223,7 +223,7 @@ class PointCheckFollower:
             return Step(np.array([*state[:2], 0.0, state[3]]), False)
         path = np.column_stack([centres[found[:, 1]], centres[found[:, 0]]]) + origin
         path[0] = state[:2]
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+        arc = arc_length(path)
         s = min(self.v_max * dt, arc[-1])
         xy = np.array([np.interp(s, arc, path[:, 0]), np.interp(s, arc, path[:, 1])])
         heading = math.atan2(*(xy - state[:2])[::-1]) if s > 0 else state[3]

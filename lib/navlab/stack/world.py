@@ -53,7 +53,7 @@ class Walker:
     @cached_property
     def arc(self) -> np.ndarray:
         """(K,) arc length at each vertex of ``path``: once per walker, the drive asks ``position`` every tick."""
-        return _arc(self.path)
+        return arc_length(self.path)
 
     def position(self, t: float) -> np.ndarray:
         """(2,) where it is at time ``t`` (s); it stands at the end of its path once there."""
@@ -201,7 +201,7 @@ def _draw(tile: SemanticMap, params: Params, rng: np.random.Generator):
                      "widen stack.route_m or stack.box_margin_m")
 
 
-def _arc(points: np.ndarray) -> np.ndarray:
+def arc_length(points: np.ndarray) -> np.ndarray:
     """(K,) arc length along a polyline (cells or metres, as its points), from its first point."""
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
 
@@ -226,7 +226,7 @@ def place_blockage(labels: np.ndarray, superpixels: np.ndarray, route: np.ndarra
     if not usable.any():
         raise ValueError("blockage_at: every region the walkway route crosses lies within "
                          f"{BLOCKAGE_CLEARANCE_M:g} m of the start or the goal; choose no blockage")
-    arc = _arc(route)
+    arc = arc_length(route)
     k = np.flatnonzero(usable)[np.argmin(np.abs(arc[usable] - fraction * arc[-1]))]
     seed, label = on_route[k], labels[tuple(route[k])]
     same = adjacent_superpixels(superpixels, np.array([seed]))
@@ -241,7 +241,7 @@ def _chosen_blockage(prior: SemanticMap, superpixels: np.ndarray, route: np.ndar
     res = prior.frame.resolution
     if not choices.blockage:
         return prior.labels, _person_route(prior.labels, *_ends(route)[::-1], res)
-    length = _arc(route)[-1] * res
+    length = arc_length(route)[-1] * res
     lo = BLOCKAGE_CLEARANCE_M / length
     if not lo <= choices.blockage_at <= 1 - lo:
         raise ValueError(f"blockage_at = {choices.blockage_at:g}: choose {lo:.2f} to {1 - lo:.2f} of this "
@@ -273,7 +273,7 @@ def _ordering(terrains: np.ndarray, preference: str, order: tuple[str, ...] | No
 def _standing(path: np.ndarray, fraction: float) -> Walker:
     """A pedestrian standing still ``fraction`` of the way along the pedestrians' path, counted from the
     robot's start (the path runs from the goal to the start)."""
-    arc = _arc(path)
+    arc = arc_length(path)
     length = arc[-1]
     lo = STANDING_CLEARANCE_M / length
     if not lo <= fraction <= 1 - lo:

@@ -15,7 +15,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from navlab.core.labels import SOFT_IDS, colorize
+from navlab.core.labels import colorize
+from navlab.metrics.relaxation import relaxed_regions
 from navlab.stack.ablation import NO_HJ, NO_PACER, NO_SURENAV, STACK, Outcome
 from navlab.stack.world import StackEpisode
 from navlab.viz.pacer import context_strip, save, show_costmap, show_image
@@ -51,8 +52,8 @@ def _tracks(ax, episode: StackEpisode, outcomes: Sequence[Outcome], zoom: float 
         ax.plot(xy[:, 0], xy[:, 1], color=ROW_COLOURS[outcome.row], linewidth=1.4,
                 label=f"{outcome.row} ({outcome.outcome})")
     longest = max((o.trajectory[-1, 0] for o in outcomes), default=None)
+    times = np.linspace(0.0, longest, 200) if longest is not None else None
     for walker in episode.walkers:
-        times = np.linspace(0.0, longest, 200) if longest is not None else None
         walked = _cells_xy(episode, walker.path if times is None else walker.track(times), zoom)
         ax.plot(walked[:, 0], walked[:, 1], color="k", linestyle=":", linewidth=1.0)
         ax.plot(*_cells_xy(episode, walker.position(0.0), zoom), "k^", markersize=4)
@@ -62,10 +63,8 @@ def _tracks(ax, episode: StackEpisode, outcomes: Sequence[Outcome], zoom: float 
 
 
 def _relaxed(episode: StackEpisode, route_cells: np.ndarray) -> np.ndarray:
-    """(H, W) bool: the soft superpixels a route walked on (the regions it relaxed)."""
-    walked = episode.superpixels[route_cells[:, 0], route_cells[:, 1]]
-    soft_walked = walked[np.isin(episode.truth[route_cells[:, 0], route_cells[:, 1]], SOFT_IDS)]
-    return np.isin(episode.superpixels, soft_walked[soft_walked >= 0])
+    """(H, W) bool: the soft superpixels a route walked on (its relaxed set, ``metrics.relaxation``)."""
+    return np.isin(episode.superpixels, relaxed_regions(route_cells, episode.truth, episode.superpixels))
 
 
 def episode_figure(episode: StackEpisode, outcomes: Sequence[Outcome], costs: np.ndarray,
