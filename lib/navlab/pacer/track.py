@@ -7,6 +7,10 @@ _TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_e
           "pacer.train.val_examples", "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction",
           "pacer.train.patience", "pacer.train.device", "pacer.train.threads", "pacer.train.select_on",
           "pacer.train.select_windows", "pacer.evaluation.cost_scale")  # results follow the device and threads
+# the losses beside Eq. 3 (the main phases key on them through their checkpoints' run key only: a debt for the
+# house's re-run, which retrains them anyway)
+_LOSSES = ("pacer.train.match_loss_weight", "pacer.train.contrast_loss_weight", "pacer.train.contrast_margin")
+_VARIANT = (*_TRAIN, *_LOSSES, "pacer.train.epochs")
 _NOTEBOOK = ("pacer",)
 _PHOTOS = "terrain_photos"  # your own photographs (pacer.terrain.OWN_PHOTOS): every stage that reads the bank
 _FIGURES = "reports/pacer/figures/"
@@ -27,6 +31,12 @@ TRACK = Track(
         artifact_stage("pacer_classifier", ("pacer.seed", "pacer.data", "pacer.train.device",
                                             "pacer.baselines.patch_size", "pacer.baselines.classifier"),
                        ("data", _PHOTOS), ("artifacts/pacer/classifier",)),
+        artifact_stage("pacer_seeds", (*_VARIANT, "pacer.variants.seeds"), ("data", _PHOTOS),
+                       ("artifacts/pacer/variants/seeds",), persist=True),
+        artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS),
+                       ("artifacts/pacer/variants/paper_architecture",), persist=True),
+        artifact_stage("pacer_scratch_matcher", _VARIANT, ("data", _PHOTOS),
+                       ("artifacts/pacer/variants/scratch_matcher",), persist=True),
         notebook_stage("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _NOTEBOOK,
                        ("data", _PHOTOS, "artifacts/pacer/phase3"), (_FIGURES + "01_costmaps",)),
         notebook_stage("pacer_02_navigation", "notebooks/pacer/02_navigation.ipynb", _NOTEBOOK,
@@ -40,7 +50,7 @@ TRACK = Track(
                        ("reports/pacer/table3_phases_seen.json", "reports/pacer/table4_phases_unseen.json",
                         "reports/pacer/table5_margin_ranking.json", "reports/pacer/context_following.json")),
     ),
-    steps="navlab.pacer.artifacts:artifact_steps",
+    steps="navlab.pacer.variants:artifact_steps",
     claims="navlab.pacer.claims",
     figures=(Figure("pacer/figures/01_costmaps/fig1_fig4_paths.png",
                     "Figs. 1 and 4: one aerial map, two preference contexts, two costmaps and their paths"),

@@ -190,6 +190,13 @@ class PacerEvalParams:
 
 
 @section
+class PacerVariantParams:
+    """Rows beside the main model (pacer/variants.py, issue 61)."""
+
+    seeds: Annotated[tuple[int, ...], between(0)]  # more training seeds of the main recipe (pacer.seed is the first)
+
+
+@section
 class PacerParams:
     seed: Annotated[int, between(0)]
     data: PacerDataParams
@@ -197,3 +204,4 @@ class PacerParams:
     train: PacerTrainParams
     baselines: PacerBaselineParams
     evaluation: PacerEvalParams
+    variants: PacerVariantParams
