@@ -26,6 +26,7 @@ from torch.utils.data import Dataset
 from navlab.core.params import Params
 from navlab.core.params.pacer import PacerDataParams
 from navlab.core.seeding import rng
+from navlab.metrics import crossed
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.metrics.intervals import bootstrap_mean_ci, bootstrap_ratio_ci
 from navlab.metrics.margin_ranking import margin_ranking_error
@@ -263,13 +264,42 @@ def rounded(ci: tuple[float, float] | None) -> list[float] | None:
 
 
 def tier_row(name: str, per_map: np.ndarray | None, gen: np.random.Generator) -> dict:
-    """{"method", low, medium, high, low_ci, ...}: means over maps and their bootstrap 95% intervals."""
+    """{"method", low, medium, high, low_ci, ...}: means over maps and their bootstrap 95% intervals;
+    ``per_map`` (maps, 3), or (seeds, maps, 3) for a model trained under several seeds: the mean over seeds and
+    maps with the crossed seeds x maps interval (``metrics.crossed``)."""
     row: dict = {"method": name}
     for k, tier in enumerate(TIER_NAMES):
-        row[tier] = None if per_map is None else float(per_map[:, k].mean())
+        row[tier] = None if per_map is None else float(per_map[..., k].mean())
     for k, tier in enumerate(TIER_NAMES):
-        row[f"{tier}_ci"] = None if per_map is None else rounded(bootstrap_mean_ci(per_map[:, k], gen))
+        row[f"{tier}_ci"] = (None if per_map is None else
+                             rounded(crossed.interval(per_map[..., k], gen) if per_map.ndim == 3 else
+                                     bootstrap_mean_ci(per_map[:, k], gen)))
     return row
+
+
+def seed_member(name: str, seed: int) -> str:
+    """The method name of one training seed's model, before ``merge_seeds`` joins them into ``name``."""
+    return f"{name} [seed {seed}]"
+
+
+def merge_seeds(result: NavigationResult, models: Mapping[str, Sequence[int]], seed: int,
+                preference: Preference) -> NavigationResult:
+    """Each model of ``models`` (name -> its training seeds, each run as the method ``seed_member(name, s)``) as
+    one row: shares (seeds, maps, 3), the mean over seeds and maps with the crossed interval, the first seed's
+    paths (the main model's). Each seed's own shares stay under its member name (one seed's diagnostics read
+    them). ``seed``: the evaluation seed keying the intervals, as ``navigation_rows``."""
+    shares, paths = dict(result.shares), dict(result.paths)
+    rows = {row["method"]: row for row in result.rows}
+    for name, seeds in models.items():
+        members = [seed_member(name, s) for s in seeds]
+        shares[name] = np.stack([shares[m] for m in members])
+        paths[name] = paths.pop(members[0])
+        for m in members[1:]:
+            paths.pop(m)
+        rows[members[0]] = tier_row(name, shares[name], rng(seed, "pacer.navigation.ci", name, preference))
+        for m in members[1:]:
+            rows.pop(m)
+    return NavigationResult(list(rows.values()), shares, paths)
 
 
 @dataclass(frozen=True)

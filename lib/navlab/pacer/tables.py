@@ -21,6 +21,7 @@ from navlab.pacer.claims import (
     LIMITED,
     ORACLE,
     PAPER,
+    PHASE_MODELS,
     PREFERENCES,
     UNIFORM,
     agreement_target,
@@ -32,6 +33,7 @@ from navlab.pacer.claims import (
     seen_claims,
     training_budget,
     unseen_claims,
+    variant_checks,
 )
 from navlab.pacer.experiments import (
     AGREEMENT_COLUMNS,
@@ -48,6 +50,16 @@ from navlab.pacer.recognition import (
     recognition_note,
     true_terrains_name,
 )
+from navlab.pacer.variants import PAPER_ARCHITECTURE_ROW, training_seeds
+
+SEEDED_TABLES = ("table1_seen", "table2_unseen", "table3_phases_seen", "table4_phases_unseen")
+
+
+def report_seeds(table_id: str, pacer: PacerParams) -> list[int]:
+    """The training seeds a table's PACER models come from: every seed for Tables I-IV (issue 61), the main
+    model's alone for the diagnostics (Table V's margin ranking, context following)."""
+    return list(training_seeds(pacer)) if table_id in SEEDED_TABLES else [pacer.seed]
+
 
 MARGIN_COLUMNS = ["model", "test_real", "test_shuffled", "test_synthetic", "test_real_ci", "test_shuffled_ci",
                   "test_synthetic_ci"]
@@ -61,13 +73,33 @@ def _reference_note(pacer: PacerParams) -> str:
             "(navlab.pacer.recognition.true_terrain_method).")
 
 
+def _seed_spread(shares: Mapping[str, np.ndarray | None], pacer: PacerParams, models: Sequence[str]) -> str:
+    """Each seeded model's low-tier share per training seed (the spread the intervals cover)."""
+    return "; ".join(f"{m}: " + ", ".join(f"seed {s} {v:.3f}" for s, v in zip(training_seeds(pacer),
+                                                                            shares[m][..., 0].mean(axis=1), strict=True))
+                     for m in models if shares.get(m) is not None and np.ndim(shares[m]) == 3)
+
+
+def _seeds_note(pacer: PacerParams, models: Sequence[str], spread: str) -> str:
+    """How the seeded rows and the paper-architecture row were made (issue 61), with ``_seed_spread``."""
+    seeds = training_seeds(pacer)
+    return (f"{', '.join(models)}: the main recipe trained under {len(seeds)} seeds ({', '.join(map(str, seeds))}; "
+            "`pacer.seed`, `pacer.variants.seeds`), each cell the mean over seeds and maps, its interval the crossed "
+            "bootstrap of seeds and maps (navlab.metrics.crossed), and every claim on them decided on that "
+            f"interval. Low-tier share per seed: {spread}. '{PAPER_ARCHITECTURE_ROW}': the released design (concat-MLP "
+            "fusion, Eq. 3 alone, no texture matcher) at this profile's widths, after the same three phases on the "
+            "same data, budget and selection (one seed, stage `pacer_paper_architecture`). Not a row yet: the "
+            "from-scratch texture matcher (its three phases take ~45 min on 2 cores; the tables before issue 61's "
+            "ImageNet features were made with it, benchmarks/README.md). ")
+
+
 def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagnosis: str = "") -> Claim:
     """``claims.gap_closed`` of ``model``'s per-map low-tier share between the uniform costmap and the oracle;
     short of the target, why names what the context-limited oracle closes on the same maps (how much of the
     gap a perfect context-follower with no prior can close at all), what the same model closes given every
     pixel's true terrain (its row ``true_terrains_name(model)``, where present: what its recognition costs),
     then ``diagnosis``."""
-    low = {m: s[:, 0] for m, s in shares.items() if s is not None}
+    low = {m: s[..., 0] for m, s in shares.items() if s is not None}
     closed = {m: gap_fraction(low[m], low[UNIFORM], low[ORACLE]) for m in (LIMITED, true_terrains_name(model))
               if m in low and m != model}
     reasons = []
@@ -110,11 +142,17 @@ def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mappi
     classifier_note = (f" Classifier: best of {classifier['epochs']} epochs by held-out patch accuracy, "
                        f"{classifier['val_accuracy']:.3f} on D_real validation patches "
                        f"(epoch {classifier['best_epoch']}).")
-    seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic")]
-    unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic")]
-    notes1 = setup + classifier_note + " " + _reference_note(pacer)
-    notes2 = (f"{setup} Classifier: null, a semantic classifier knows only the seen labels, so no preference over "
-              "unseen terrain can be expressed to it (the paper omits it for the same reason).")
+    seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic"),
+            *variant_checks(results["seen"].shares, "PACER", [PAPER_ARCHITECTURE_ROW], "seen")]
+    unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic"),
+              *variant_checks(results["unseen"].shares, "PACER", [PAPER_ARCHITECTURE_ROW], "unseen")]
+    seeded = ("PACER", "PACER (uninformative context)")
+    notes1 = (setup + classifier_note + " " + _seeds_note(pacer, seeded, _seed_spread(results["seen"].shares, pacer, seeded))
+              + _reference_note(pacer))
+    notes2 = (f"{setup} {_seeds_note(pacer, seeded, _seed_spread(results['unseen'].shares, pacer, seeded))}Classifier: "
+              "null, a semantic "
+              "classifier knows only the seen labels, so no preference over unseen terrain can be expressed to it (the "
+              "paper omits it for the same reason).")
     return [Table("table1_seen", "PACER Table I", NAVIGATION_COLUMNS, results["seen"].rows, PAPER["table1_seen"],
                   notes1, seen),
             Table("table2_unseen", "PACER Table II", NAVIGATION_COLUMNS, results["unseen"].rows,
@@ -236,9 +274,18 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
 
     shares = {env: {pref: results[env, pref].shares for pref in PREFERENCES} for env in ("seen", "unseen")}
     rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
-    seen = [*phase_seen_claims(shares["seen"]), *gaps("seen")]
-    unseen = [*phase_unseen_claims(shares["seen"], shares["unseen"]), *gaps("unseen")]
-    notes5 = (f"{pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
+    def against_paper_architecture(env: str) -> list[Claim]:
+        return [c for pref in PREFERENCES
+                for c in variant_checks(shares[env][pref], "D_synthetic", [PAPER_ARCHITECTURE_ROW], f"{env}, {pref}")]
+
+    def seeds_note(env: str) -> str:
+        spread = " | ".join(f"{pref}: {_seed_spread(shares[env][pref], pacer, PHASE_MODELS)}" for pref in PREFERENCES)
+        return _seeds_note(pacer, PHASE_MODELS, spread)
+
+    seen = [*phase_seen_claims(shares["seen"]), *gaps("seen"), *against_paper_architecture("seen")]
+    unseen = [*phase_unseen_claims(shares["seen"], shares["unseen"]), *gaps("unseen"),
+              *against_paper_architecture("unseen")]
+    notes5 = (f"The main model's phases (seed {pacer.seed}) alone. {pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
               "points each, the same items and points for every model (pairs of equal rank count any cost difference "
               "as error); intervals: bootstrap over items.")
     superset = {(env, pref): (agreement["D_synthetic", env, pref, "superset"].fraction,
@@ -247,9 +294,9 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
     minutes = _training_minutes(summaries)
     following = [agreement_target(superset), *([training_budget(minutes)] if minutes else [])]
     return [Table("table3_phases_seen", "PACER Table III", PHASE_COLUMNS, rows["seen"],
-                  PAPER["table3_phases_seen"], f"{setup} {_reference_note(pacer)}", seen),
+                  PAPER["table3_phases_seen"], f"{setup} {seeds_note('seen')}{_reference_note(pacer)}", seen),
             Table("table4_phases_unseen", "PACER Table IV", PHASE_COLUMNS, rows["unseen"],
-                  PAPER["table4_phases_unseen"], setup, unseen),
+                  PAPER["table4_phases_unseen"], f"{setup} {seeds_note('unseen')}", unseen),
             Table("table5_margin_ranking", "PACER Table V", MARGIN_COLUMNS, margin_rows(margin_errors, pacer.seed),
                   PAPER["table5_margin_ranking"], notes5, margin_ranking_claims(margin_errors)),
             Table("context_following", "ours (issues 14, 24): held-out preference agreement and map-window metrics",

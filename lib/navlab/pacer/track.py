@@ -35,8 +35,6 @@ TRACK = Track(
                        ("artifacts/pacer/variants/seeds",), persist=True),
         artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS),
                        ("artifacts/pacer/variants/paper_architecture",), persist=True),
-        artifact_stage("pacer_scratch_matcher", _VARIANT, ("data", _PHOTOS),
-                       ("artifacts/pacer/variants/scratch_matcher",), persist=True),
         notebook_stage("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _NOTEBOOK,
                        ("data", _PHOTOS, "artifacts/pacer/phase3"), (_FIGURES + "01_costmaps",)),
         notebook_stage("pacer_02_navigation", "notebooks/pacer/02_navigation.ipynb", _NOTEBOOK,

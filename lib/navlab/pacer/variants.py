@@ -1,6 +1,5 @@
-"""PACER's rows beside the main model (issue 61): more training seeds of the main recipe, the paper's own
-architecture, and the from-scratch texture matcher, each trained through the three phases exactly as the main
-model is (``artifacts._train``: the same datasets, selection windows, budget and checkpoint resumption).
+"""PACER's rows beside the main model (issue 61): more training seeds of the main recipe and the paper's own
+architecture, each trained through the three phases exactly as the main model is (``artifacts._train``: the same datasets, selection windows, budget and checkpoint resumption).
 
 Why: one training seed cannot tell a method's effect from its seed's luck (three seeds of one recipe differed
 by up to 0.14 in one set's gap closed, benchmarks/README.md), and a reader cannot see what our additions buy
@@ -11,8 +10,6 @@ without the released design trained beside them on the same data and budget.
 * ``paper_architecture``: the released design at this profile's size: concat-MLP fusion, Eq. 3 alone (no
   matching or contrast loss), no texture matcher; everything else (the image U-Net's and the context encoder's
   widths, the data, epochs and selection) as the main model's, so the row measures the design, not the budget.
-* ``scratch_matcher``: our matcher with towers trained on the seen photographs alone
-  (``pacer.model.match_features: scratch``) instead of ImageNet features.
 
 Each variant's folder is an artefacts tree of its own (``<variant root>/pacer/phase1`` ... ``phase3``), laid
 out as ``artifacts/`` is, so the main model's loaders read it with the same paths.
@@ -25,14 +22,14 @@ from collections.abc import Callable
 from pathlib import Path
 
 from navlab.core.params import Params
+from navlab.core.params.pacer import PacerParams
 from navlab.pacer.artifacts import _train as phase_step
 from navlab.pacer.artifacts import artifact_steps as main_steps
 from navlab.pacer.train import PHASES
 
 FOLDER = ("pacer", "variants")  # under artifacts/
-SEEDS, PAPER_ARCHITECTURE, SCRATCH_MATCHER = "seeds", "paper_architecture", "scratch_matcher"
-ROW_NAMES = {PAPER_ARCHITECTURE: "paper architecture (concat-MLP, Eq. 3 alone, no matcher)",
-             SCRATCH_MATCHER: "from-scratch matcher"}
+SEEDS, PAPER_ARCHITECTURE = "seeds", "paper_architecture"
+PAPER_ARCHITECTURE_ROW = "PACER, paper architecture (concat-MLP, Eq. 3 alone, no matcher)"  # its tables' row
 
 
 def variant_root(artifacts_dir: str | Path, variant: str, seed: int | None = None) -> Path:
@@ -45,6 +42,18 @@ def phase_model(artifacts_dir: str | Path, variant: str, phase: str = "phase3", 
     return variant_root(artifacts_dir, variant, seed) / "pacer" / phase / "model.pt"
 
 
+def training_seeds(pacer: PacerParams) -> tuple[int, ...]:
+    """The main recipe's training seeds, the main model's (``pacer.seed``) first."""
+    return (pacer.seed, *pacer.variants.seeds)
+
+
+def seed_models(artifacts_dir: str | Path, pacer: PacerParams, phase: str = "phase3") -> dict[int, Path]:
+    """``model.pt`` of the main recipe after ``phase`` under each training seed: ``pacer.seed``'s from the
+    main stages (artifacts/pacer/<phase>), the others' from ``pacer_seeds``."""
+    return {seed: (Path(artifacts_dir) / "pacer" / phase / "model.pt" if seed == pacer.seed else
+                   phase_model(artifacts_dir, SEEDS, phase, seed)) for seed in training_seeds(pacer)}
+
+
 def with_seed(params: Params, seed: int) -> Params:
     return dataclasses.replace(params, pacer=dataclasses.replace(params.pacer, seed=seed))
 
@@ -55,12 +64,6 @@ def paper_architecture(params: Params) -> Params:
     model = dataclasses.replace(p.model, fusion="concat_mlp", match_channels=())
     train = dataclasses.replace(p.train, match_loss_weight=0.0, contrast_loss_weight=0.0)
     return dataclasses.replace(params, pacer=dataclasses.replace(p, model=model, train=train))
-
-
-def scratch_matcher(params: Params) -> Params:
-    p = params.pacer
-    return dataclasses.replace(params, pacer=dataclasses.replace(
-        p, model=dataclasses.replace(p.model, match_features="scratch")))
 
 
 def train_three_phases(params: Params, data_dir: Path, root: Path) -> None:
@@ -84,5 +87,4 @@ def build_seeds(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
 def artifact_steps() -> list:
     """The main model's and baselines' steps (``pacer.artifacts``), then the variants'."""
     return [*main_steps(), (f"pacer_{SEEDS}", build_seeds),
-            (f"pacer_{PAPER_ARCHITECTURE}", _variant(paper_architecture, PAPER_ARCHITECTURE)),
-            (f"pacer_{SCRATCH_MATCHER}", _variant(scratch_matcher, SCRATCH_MATCHER))]
+            (f"pacer_{PAPER_ARCHITECTURE}", _variant(paper_architecture, PAPER_ARCHITECTURE))]
