@@ -161,3 +161,56 @@ def test_table5_rows_are_the_mean_and_interval_of_the_per_item_errors():
     row = margin_rows({"D_real": {"real": errors}}, 7)[0]
     assert row["test_real"] == pytest.approx(errors.mean())
     assert row["test_real_ci"] == [round(v, 5) for v in bootstrap_mean_ci(errors, rng(7, "pacer.margin_ranking.ci"))]
+
+
+def test_merge_seeds_makes_one_row_over_seeds_and_maps_and_keeps_each_seed_apart():
+    from navlab.metrics import crossed
+    from navlab.pacer.experiments import merge_seeds, seed_member
+
+    base = result({seed_member("PACER", 0): 0.40, seed_member("PACER", 1): 0.50, seed_member("PACER", 2): 0.45,
+                   UNIFORM: 0.28}, "merge")
+    merged = merge_seeds(base, {"PACER": [0, 1, 2]}, 0, "realistic")
+    assert [r["method"] for r in merged.rows] == ["PACER", UNIFORM]
+    stacked = np.stack([base.shares[seed_member("PACER", s)] for s in range(3)])
+    np.testing.assert_array_equal(merged.shares["PACER"], stacked)
+    assert merged.rows[0]["low"] == pytest.approx(stacked[..., 0].mean())
+    assert merged.rows[0]["low_ci"] == [round(v, 4) for v in crossed.interval(
+        stacked[..., 0], rng(0, "pacer.navigation.ci", "PACER", "realistic"))]
+    assert seed_member("PACER", 1) in merged.shares and seed_member("PACER", 1) not in merged.paths
+    assert merged.paths["PACER"] is base.paths[seed_member("PACER", 0)]
+
+
+def test_seeded_rows_are_decided_over_seeds_and_say_each_seeds_share(smoke_params):
+    from navlab.pacer.experiments import merge_seeds, seed_member
+    from navlab.pacer.variants import PAPER_ARCHITECTURE_ROW, training_seeds
+
+    seeds = training_seeds(smoke_params.pacer)
+    lows = {**{seed_member(m, s): NAVIGATION[m] + 0.02 * k for m in ("PACER", "PACER (uninformative context)")
+               for k, s in enumerate(seeds)},
+            **{m: v for m, v in NAVIGATION.items() if not m.startswith("PACER (") and m != "PACER"},
+            PAPER_ARCHITECTURE_ROW: 0.30}
+    results = {env: merge_seeds(result(lows, env), {m: list(seeds) for m in ("PACER", "PACER (uninformative context)")},
+                                0, "realistic") for env in ("seen", "unseen")}
+    seen, _ = navigation_tables(results, CLASSIFIER, smoke_params.pacer, "smoke")
+    similar = next(c for c in seen.claims if c.key == "table1_pacer_similar_to_sterling")
+    assert f"{len(seeds)} seeds x {MAPS} maps, crossed bootstrap" in similar.ours
+    per_seed = results["seen"].shares["PACER"][..., 0].mean(axis=1)
+    assert f"seed {seeds[-1]} {per_seed[-1]:.3f}" in seen.notes
+    bought = next(c for c in seen.claims if PAPER_ARCHITECTURE_ROW in c.claim)
+    assert bought.source == "ours" and bought.verdict == "holds"  # 0.45 vs 0.30 on every map and seed
+
+
+def test_the_paper_architecture_variant_is_the_released_design_at_this_size(smoke_params, tmp_path):
+    from navlab.pacer.model import build_model
+    from navlab.pacer.variants import SEEDS, paper_architecture, phase_model, seed_models, training_seeds
+
+    paper = paper_architecture(smoke_params).pacer
+    assert (paper.model.fusion, paper.model.match_channels) == ("concat_mlp", ())
+    assert (paper.train.match_loss_weight, paper.train.contrast_loss_weight) == (0.0, 0.0)
+    assert paper.model.image_channels == smoke_params.pacer.model.image_channels  # only the design changes
+    assert getattr(build_model(paper.model, patch_size=paper.data.patch_size), "matcher", None) is None
+    paths = seed_models(tmp_path, smoke_params.pacer, "phase2")
+    assert list(paths) == list(training_seeds(smoke_params.pacer))
+    assert paths[smoke_params.pacer.seed] == tmp_path / "pacer" / "phase2" / "model.pt"
+    other = training_seeds(smoke_params.pacer)[1]
+    assert paths[other] == phase_model(tmp_path, SEEDS, "phase2", other)

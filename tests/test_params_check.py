@@ -115,3 +115,13 @@ def test_one_profile(capsys):
     out = capsys.readouterr().out
     assert "[gpu] pacer model" in out and "[default]" not in out and "every profile fits" in out
     assert hj_problems(load_params("paper"), []) == []
+
+
+def test_a_repeated_training_seed_is_one_line_naming_the_key():
+    """An extra seed equal to pacer.seed would train the main model again and count it as a second seed."""
+    p = load_params("smoke")
+    bad = dataclasses.replace(p, pacer=dataclasses.replace(
+        p.pacer, variants=dataclasses.replace(p.pacer.variants, seeds=(p.pacer.seed, 3))))
+    problems, _ = check_profile(bad)
+    assert len(problems) == 1 and problems[0].startswith("pacer.variants.seeds = [0, 3] repeats seed(s) [0]"), problems
+    assert check_profile(p)[0] == []

@@ -115,3 +115,15 @@ def baseline_problems(params: Params, notes: list[str]) -> list[str]:
             problems.append(f"pacer.baselines.{name}.channels = {list(model.channels)} on pacer.baselines.patch_size "
                             f"= {b.patch_size}: {str(err).splitlines()[0]}")
     return problems
+
+
+def variant_problems(params: Params, notes: list[str]) -> list[str]:
+    """The extra training seeds (``pacer.variants.seeds``) must differ from the main model's and each other:
+    a repeated seed trains the same weights again, and the tables would count one model as two seeds."""
+    p = params.pacer
+    seeds = (p.seed, *p.variants.seeds)
+    repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+    if repeated:
+        return [f"pacer.variants.seeds = {list(p.variants.seeds)} repeats seed(s) {repeated} (pacer.seed = {p.seed}); "
+                "give each extra training seed once, none equal to pacer.seed"]
+    return []

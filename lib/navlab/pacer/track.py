@@ -65,7 +65,7 @@ TRACK = Track(
               ("table5_margin_ranking", ("D_synthetic",), ("test_synthetic",))),
     shown=(("context_following", ("agreement",)),),
     profile_checks=("navlab.pacer.profile_check:data_problems", "navlab.pacer.profile_check:model_problems",
-                    "navlab.pacer.profile_check:baseline_problems"),
+                    "navlab.pacer.profile_check:baseline_problems", "navlab.pacer.profile_check:variant_problems"),
     plots=tuple((f"artifacts/pacer/phase{k}/val_loss.tsv", "epoch", ("train_loss", "val_loss", "select_score"),
                  f"PACER phase {k} ({what}) loss and map-window selection score (pixel-pair AUC) per epoch")
                 for k, what in ((1, "D_real"), (2, "D_real + D_shuffled"), (3, "+ D_synthetic"))),
