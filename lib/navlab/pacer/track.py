@@ -11,6 +11,9 @@ _TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_e
 # house's re-run, which retrains them anyway)
 _LOSSES = ("pacer.train.match_loss_weight", "pacer.train.contrast_loss_weight", "pacer.train.contrast_margin")
 _VARIANT = (*_TRAIN, *_LOSSES, "pacer.train.epochs")
+# the variant stages' outputs (navlab.pacer.variants): the other seeds' phases, the paper architecture's; the
+# notebooks that read them depend on them
+_VARIANT_OUTS = ("artifacts/pacer/variants/seeds", "artifacts/pacer/variants/paper_architecture")
 _NOTEBOOK = ("pacer",)
 _PHOTOS = "terrain_photos"  # your own photographs (pacer.terrain.OWN_PHOTOS): every stage that reads the bank
 _FIGURES = "reports/pacer/figures/"
@@ -31,19 +34,19 @@ TRACK = Track(
         artifact_stage("pacer_classifier", ("pacer.seed", "pacer.data", "pacer.train.device",
                                             "pacer.baselines.patch_size", "pacer.baselines.classifier"),
                        ("data", _PHOTOS), ("artifacts/pacer/classifier",)),
-        artifact_stage("pacer_seeds", (*_VARIANT, "pacer.variants.seeds"), ("data", _PHOTOS),
-                       ("artifacts/pacer/variants/seeds",), persist=True),
-        artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS),
-                       ("artifacts/pacer/variants/paper_architecture",), persist=True),
+        artifact_stage("pacer_seeds", (*_VARIANT, "pacer.variants.seeds"), ("data", _PHOTOS), _VARIANT_OUTS[:1],
+                       persist=True),
+        artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS), _VARIANT_OUTS[1:], persist=True),
         notebook_stage("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _NOTEBOOK,
                        ("data", _PHOTOS, "artifacts/pacer/phase3"), (_FIGURES + "01_costmaps",)),
         notebook_stage("pacer_02_navigation", "notebooks/pacer/02_navigation.ipynb", _NOTEBOOK,
-                       ("data", _PHOTOS, "artifacts/pacer/phase3", "artifacts/pacer/sterling",
+                       ("data", _PHOTOS, "artifacts/pacer/phase3", *_VARIANT_OUTS, "artifacts/pacer/sterling",
                         "artifacts/pacer/classifier"),
                        (_FIGURES + "02_navigation",),
                        ("reports/pacer/table1_seen.json", "reports/pacer/table2_unseen.json")),
         notebook_stage("pacer_03_phase_ablation", "notebooks/pacer/03_phase_ablation.ipynb", _NOTEBOOK,
-                       ("data", _PHOTOS, "artifacts/pacer/phase1", "artifacts/pacer/phase2", "artifacts/pacer/phase3"),
+                       ("data", _PHOTOS, "artifacts/pacer/phase1", "artifacts/pacer/phase2", "artifacts/pacer/phase3",
+                        *_VARIANT_OUTS),
                        (_FIGURES + "03_phase_ablation",),
                        ("reports/pacer/table3_phases_seen.json", "reports/pacer/table4_phases_unseen.json",
                         "reports/pacer/table5_margin_ranking.json", "reports/pacer/context_following.json")),
