@@ -50,6 +50,7 @@ RUNS = {
                       "--max-expansions", "2000"],
     "hj_state_lattice.py": ["--profile", "smoke", "--artifacts", "{artifacts}", "--pairs", "2", "--tables", "1"],
     "hj_closed_loop.py": ["--profile", "smoke", "--artifacts", "{artifacts}"],
+    "hj_search_rows.py": ["--profile", "smoke", "--artifacts", "{artifacts}", "--pairs", "2"],
     "hj_closed_loop_spread.py": ["--profile", "smoke", "--artifacts", "{artifacts}", "--first", "0", "--runs", "1",
                                  "--workers", "1"],
     "surenav_context.py": ["--profile", "smoke", "--data", "{data}", "--artifacts", "{artifacts}",

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from navlab.hj import sweeps as hj_sweeps
 from navlab.hj.closed_loop import (
     detour_start,
     summarise_patrols,
@@ -19,6 +20,7 @@ from navlab.hj.grids import grid_path, human_brt_spec
 from navlab.hj.pruners import obs_pruner
 from navlab.hj.receding_horizon import Evasion, Observation, Run, SimSettings, Trip, run_patrol
 from navlab.hj.scenarios import ClosedLoop, cyclic_goals, run_cells, start_state
+from navlab.hj.sweeps import Point
 from navlab.maps.rooms import load_room
 from navlab.reach.solver import Backend
 from navlab.reach.store import save_grid
@@ -81,6 +83,20 @@ def test_runs_in_worker_processes_equal_the_runs_here_in_cell_order(loop):
     assert not np.array_equal(np.array(here["OBS", "F2F"][0].humans), np.array(here["OBS", "F2F"][1].humans))
     with pytest.raises(ValueError, match="not a closed-loop run"):
         run_cells(loop, {"x": [("policy", ())]}, workers=1)
+
+
+def test_table_vis_own_sweep_points_run_exactly_table_vis_runs(loop):
+    """The sweep reads its points at Table VI's own rate and noise from Table VI's report (``hj.sweeps.table_rows``):
+    sound only if the point's run is Table VI's run of the named row, run for run."""
+    d = loop.d
+    point = Point("loop", (d.closed_loop.replan_hz, d.table6.human_noise_m, d.closed_loop.prediction_variant_s))
+    swept = ClosedLoop(hj_sweeps._applied(loop.params, point), loop.artifacts_dir, log=lambda m: None)
+    names = hj_sweeps.table_rows(loop.params, point)
+    assert names["FI-BRT"] != "FI-BRT"  # the variant row: a horizon the table's own FI-BRT row does not use
+    for method in ("FI-BRT", "OBS"):
+        a, b = swept.face_to_face(method, 1), loop.face_to_face(names[method], 1)
+        assert np.array_equal(np.array(a.trajectory), np.array(b.trajectory)), method
+        assert [t.outcome for t in a.trips] == [t.outcome for t in b.trips]
 
 
 class _OnePlan:

@@ -18,6 +18,11 @@ A point's result is a JSON file under ``artifacts/hj_sensitivity`` named by the 
 the HJ parameters with the point's change applied, and the stored grids it reads: a changed input re-runs
 exactly the points it affects, and an interrupted sweep resumes. Points run in ``workers`` processes; a
 point's numbers do not depend on how many (each is a pure function of its settings and seeds).
+
+Two loop points are Table VI itself: at the table's own rate and noise, the paper's rows at its horizon and
+its prediction-variant rows at theirs (``table_rows``). Their runs are the very calls Table VI makes (same
+``ClosedLoop`` settings, rows and seeds; tested), so they are not run a second time: the sweep takes their
+rows from Table VI's report (about a third of the loop points' runs).
 """
 
 from __future__ import annotations
@@ -31,13 +36,14 @@ from pathlib import Path
 from tqdm.auto import tqdm
 
 from navlab.core.fingerprint import code_fingerprint, files_fingerprint
-from navlab.core.io import write_json
+from navlab.core.io import DataError, write_json
 from navlab.core.params import Params
 from navlab.hj.brt_margin import MARGINS_SUBDIR
 from navlab.hj.closed_loop import summarise_runs, summarise_trips
-from navlab.hj.scenarios import HUMAN_ROWS, ROOM_COMBOS, ROOM_NAMES, ClosedLoop
+from navlab.hj.scenarios import HUMAN_ROWS, ROOM_COMBOS, ROOM_NAMES, ClosedLoop, human_rows
 
 SWEEP_SUBDIR = "hj_sensitivity"
+SCENARIOS = ("Face-to-Face", "Zig-Zag")  # a loop point's cells, in its rows' order
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,6 +83,42 @@ def selected_points(params: Params) -> list[Point]:
         raise ValueError(f"hj.sensitivity.only names {unknown[0]!r}, not a point of this sweep; its points are "
                          f"{', '.join(p.name for p in points)}")
     return [p for p in points if not only or p.name in only]
+
+
+def table_rows(params: Params, point: Point) -> dict[str, str] | None:
+    """For a ``loop`` point Table VI runs itself (its own re-planning rate and human noise, at a horizon each of
+    the three methods has a row for: OBS never predicts), {method: Table VI's row name}; else None."""
+    if point.kind != "loop":
+        return None
+    d = params.hj.dynamic
+    hz, noise, ahead = point.value
+    if (hz, noise) != (d.closed_loop.replan_hz, d.table6.human_noise_m):
+        return None
+    rows = human_rows(d)
+    names = {m: next((n for n, r in rows.items() if r == (mode, 0.0 if mode == "obs" else ahead)), None)
+             for m, mode in HUMAN_ROWS.items()}
+    return None if None in names.values() else names
+
+
+def points_to_run(params: Params) -> list[Point]:
+    """``selected_points`` less those Table VI runs (``table_rows``): what the sweep simulates and caches."""
+    return [p for p in selected_points(params) if table_rows(params, p) is None]
+
+
+def from_table6(params: Params, point: Point, report: str | Path) -> dict:
+    """A Table VI point's result from Table VI's report file, in ``run_point``'s row order; a missing report,
+    or one of another profile or run count, is one line naming the command that writes it."""
+    report = Path(report)
+    fix = "run notebooks/hj/03_dynamic.ipynb first (`dvc repro hj_dynamic`)"
+    if not report.is_file():
+        raise DataError(f"{report} is missing: the sweep reads Table VI's own points from it; {fix}")
+    runs, names, table = params.hj.dynamic.table6.runs, table_rows(params, point), json.loads(report.read_text())
+    by_name = {(r["method"], r["scenario"]): r for r in table.get("rows", ())}
+    rows = [{**by_name.get((names[m], s), {}), "method": m} for s in SCENARIOS for m in HUMAN_ROWS]
+    if table.get("profile") != params.profile or any(r.get("runs") != runs for r in rows):
+        raise DataError(f"{report} is not this profile's Table VI ({params.profile!r}, {runs} runs per cell, "
+                        f"every row of point {point.name}): {fix}")
+    return {"kind": point.kind, "value": list(point.value), "rows": rows, "source": "table6_dynamic"}  # as JSON reads it
 
 
 def point_file(params: Params, point: Point, artifacts_dir: str | Path) -> Path:
@@ -123,7 +165,7 @@ def run_point(params: Params, point: Point, artifacts_dir: str | Path) -> dict:
                 rows.append(summarise_trips(f"{heuristic} + {pruner}", label, [run]))
     else:
         runs = params.hj.dynamic.table6.runs
-        for scenario, simulate in (("Face-to-Face", loop.face_to_face), ("Zig-Zag", loop.zig_zag)):
+        for scenario, simulate in zip(SCENARIOS, (loop.face_to_face, loop.zig_zag), strict=True):
             for method in HUMAN_ROWS:
                 cell = [simulate(method, r) for r in range(runs)]
                 rows.append(summarise_runs(method, scenario, cell, params.hj.dynamic.seed))
@@ -142,14 +184,16 @@ def _run_and_store(args) -> dict:
     return result
 
 
-def run_sweep(params: Params, artifacts_dir: str | Path, progress: bool = True) -> list[dict]:
-    """Every point of ``selected_points``, from the cache where its key matches, else run (in
-    ``hj.workers`` processes) and stored; results in point order."""
+def run_sweep(params: Params, artifacts_dir: str | Path, progress: bool = True,
+              table6: str | Path | None = None) -> list[dict]:
+    """Every point of ``selected_points``, in point order: Table VI's from its report file ``table6`` (left
+    out without it), the others from the cache where its key matches, else run (in ``hj.workers`` processes) and
+    stored."""
     folder = Path(artifacts_dir) / SWEEP_SUBDIR
     folder.mkdir(parents=True, exist_ok=True)
-    points = selected_points(params)
-    paths = [point_file(params, p, artifacts_dir) for p in points]
-    todo = [(params, p, artifacts_dir, path) for p, path in zip(points, paths, strict=True) if not path.exists()]
+    run = points_to_run(params)
+    paths = {p: point_file(params, p, artifacts_dir) for p in run}
+    todo = [(params, p, artifacts_dir, path) for p, path in paths.items() if not path.exists()]
     bar = tqdm(total=len(todo), desc="HJ sensitivity points", disable=not progress or not todo)
     workers = min(params.hj.workers, len(todo))
     if workers > 1:
@@ -161,8 +205,9 @@ def run_sweep(params: Params, artifacts_dir: str | Path, progress: bool = True) 
             _run_and_store(job)
             bar.update()
     bar.close()
-    kept = {p.name for p in paths}
+    kept = {path.name for path in paths.values()}
     for stale in folder.glob("*.json"):  # results of points no longer asked for, or of older inputs
         if stale.name not in kept:
             stale.unlink()
-    return [json.loads(path.read_text()) for path in paths]
+    return [json.loads(paths[p].read_text()) if p in paths else from_table6(params, p, table6)
+            for p in selected_points(params) if p in paths or table6 is not None]

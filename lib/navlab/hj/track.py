@@ -40,7 +40,7 @@ TRACK = Track(
         artifact_stage("hj_sweep", (*_LOOP, "hj.seed", "hj.sensitivity"), ("artifacts/hj", _MARGINS),
                        (_SWEEP,), persist=True),
         notebook_stage("hj_sensitivity", "notebooks/hj/06_sensitivity.ipynb", (*_LOOP, "hj.seed", "hj.sensitivity"),
-                       ("artifacts/hj", _MARGINS, _SWEEP),
+                       ("artifacts/hj", _MARGINS, _SWEEP, "reports/hj/table6_dynamic.json"),  # Table VI's own points
                        tuple(_FIGURES + f"sensitivity_{k}.png"
                              for k in ("budget", "replan_hz", "human_noise_m", "human_prediction_s")),
                        ("reports/hj/sensitivity_budget.json", "reports/hj/sensitivity_loop.json")),

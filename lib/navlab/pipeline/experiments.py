@@ -19,7 +19,7 @@ from pathlib import Path, PurePosixPath
 
 from navlab.core.io import DataError, write_text
 from navlab.core.params import Params
-from navlab.hj.sweeps import Point, point_file, sweep_points
+from navlab.hj.sweeps import Point, point_file, points_to_run
 from navlab.pipeline.dvc_yaml import RESOLVED
 
 SWEEP_STAGE = "hj_sweep"
@@ -55,11 +55,12 @@ def experiment_refs(root: str | Path) -> dict[str, str]:
 
 
 def queue_sweep(params: Params, root: str | Path, artifacts_dir: str | Path) -> list[str]:
-    """Queue one experiment for each point whose result is neither cached here nor in a finished experiment
-    (``collect_sweep`` takes those); the names queued. Start them with ``dvc queue start -j N``."""
+    """Queue one experiment for each point the sweep simulates (``points_to_run``: Table VI's own are read from
+    its report) whose result is neither cached here nor in a finished experiment (``collect_sweep`` takes
+    those); the names queued. Start them with ``dvc queue start -j N``."""
     done = experiment_refs(root)
     queued = []
-    for point in sweep_points(params):
+    for point in points_to_run(params):
         path = point_file(params, point, artifacts_dir)  # hashes the code and the grids: once per point
         name = _name(point, path)
         if path.exists() or name in done:
@@ -75,7 +76,7 @@ def collect_sweep(params: Params, root: str | Path, artifacts_dir: str | Path) -
     from dvc.api import DVCFileSystem
 
     root = Path(root).resolve()
-    wanted = {point_file(params, p, artifacts_dir): p for p in sweep_points(params)}
+    wanted = {point_file(params, p, artifacts_dir): p for p in points_to_run(params)}
     folder = next(iter(wanted)).parent.resolve()
     if not folder.is_relative_to(root):
         raise DataError(f"{folder}: the point cache must lie inside the checkout {root} to be read from experiments")
