@@ -6,7 +6,7 @@ never ends up inside the archive (torch.save names the archive after the file it
 the same weights gives the same bytes. A checkpoint carries the ``key`` of the run that wrote it (code
 fingerprint + parameters + inputs, see ``navlab.core.fingerprint``); ``resume_checkpoint`` returns it only
 to a run with the same key, so a finished run is never continued under other code or parameters
-(DESIGN.md, "Caches").
+(docs/design.md, "Caches").
 
 ``fit`` checkpoints after every epoch the weights, the optimiser, the scheduler, torch's RNG state, the
 log and the best epoch's weights; a run killed and started again therefore ends at the weights of an

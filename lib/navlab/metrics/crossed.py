@@ -46,18 +46,28 @@ def resampled_means(grid: np.ndarray, gen: np.random.Generator, resamples: int =
                     seeds: np.ndarray | None = None) -> np.ndarray:
     """``resamples`` grand means of ``grid`` (seeds, units), seeds and units drawn independently with
     replacement; ``seeds`` (resamples, seeds) fixes the seed draws (two groups sharing their seeds)."""
-    s, n = grid.shape
-    rows = gen.integers(0, s, size=(resamples, s)) if seeds is None else seeds
-    cols = gen.integers(0, n, size=(resamples, n))
+    rows, cols = _draws(grid.shape, gen, resamples, seeds)
     per_seed = grid[:, cols].mean(axis=2)  # (seeds, resamples): each seed's mean over the drawn units
     return np.take_along_axis(per_seed.T, rows, axis=1).mean(axis=1)
 
 
+def _draws(shape: tuple[int, int], gen: np.random.Generator, resamples: int = RESAMPLES,
+           seeds: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """One crossed resampling of a (seeds, units) grid: (resamples, seeds) seed indices (``seeds`` if given),
+    then (resamples, units) unit indices, each drawn with replacement and apart from the other."""
+    s, n = shape
+    rows = gen.integers(0, s, size=(resamples, s)) if seeds is None else seeds
+    return rows, gen.integers(0, n, size=(resamples, n))
+
+
+def _percentile_interval(resampled: np.ndarray) -> tuple[float, float]:
+    lo, hi = np.percentile(resampled, [100 * ALPHA / 2, 100 * (1 - ALPHA / 2)])
+    return float(lo), float(hi)
+
+
 def interval(values, gen: np.random.Generator) -> tuple[float, float]:
     """95% crossed-bootstrap interval of the grand mean of ``values`` (seeds, units)."""
-    means = resampled_means(as_grid(values), gen)
-    lo, hi = np.percentile(means, [100 * ALPHA / 2, 100 * (1 - ALPHA / 2)])
-    return float(lo), float(hi)
+    return _percentile_interval(resampled_means(as_grid(values), gen))
 
 
 def ratio_interval(numerators, denominators, gen: np.random.Generator) -> tuple[float, float]:
@@ -65,12 +75,9 @@ def ratio_interval(numerators, denominators, gen: np.random.Generator) -> tuple[
     (the share of a gap closed: numerators (seeds, units), denominators one row or one per seed)."""
     num, den = as_grid(numerators), as_grid(denominators)
     den = np.broadcast_to(den, num.shape)
-    s, n = num.shape
-    rows, cols = gen.integers(0, s, size=(RESAMPLES, s)), gen.integers(0, n, size=(RESAMPLES, n))
+    rows, cols = _draws(num.shape, gen)
     ratios = num[:, cols].sum(axis=2) / np.maximum(den[:, cols].sum(axis=2), 1e-12)  # (s, B)
-    means = np.take_along_axis(ratios.T, rows, axis=1).mean(axis=1)
-    lo, hi = np.percentile(means, [100 * ALPHA / 2, 100 * (1 - ALPHA / 2)])
-    return float(lo), float(hi)
+    return _percentile_interval(np.take_along_axis(ratios.T, rows, axis=1).mean(axis=1))
 
 
 def _side(lo: float, hi: float, sign: float) -> Verdict:
@@ -145,6 +152,6 @@ def two_sample_difference(a, b, direction: Direction, gen: np.random.Generator, 
                                     f"least {MIN_UNITS} each)")
     seeds = gen.integers(0, a.shape[0], size=(RESAMPLES, a.shape[0]))
     diff = resampled_means(a, gen, seeds=seeds) - resampled_means(b, gen, seeds=seeds)
-    lo, hi = (float(v) for v in np.percentile(diff, [100 * ALPHA / 2, 100 * (1 - ALPHA / 2)]))
+    lo, hi = _percentile_interval(diff)
     return Test(_side(lo, hi, sign), f"{head}, 95% CI [{lo:+.4g}, {hi:+.4g}], unpaired: {a.shape[1]} and "
                                      f"{b.shape[1]} {unit} resampled apart, {a.shape[0]} seed(s) shared")

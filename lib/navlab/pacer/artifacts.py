@@ -53,7 +53,9 @@ def phase_inputs(params: Params, data_dir: Path) -> dict:
             "data": dataclasses.asdict(data)}
 
 
-def _train(phase: str):
+def phase_step(phase: str):
+    """The step that trains ``phase`` into ``<artifacts_dir>/pacer/<phase>`` (resuming its checkpoint): the main
+    stages' and, under another parameter set and artefacts root, every variant's (``pacer.variants``)."""
     def step(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
         bank = load_terrain_bank(data_dir, params.pacer.data)
         names = PHASE_DATASETS[phase]
@@ -99,5 +101,5 @@ def build_classifier(params: Params, data_dir: Path, artifacts_dir: Path) -> Non
 
 def artifact_steps() -> list:
     """(name, fn(params, data_dir, artifacts_dir)) in dependency order."""
-    return [*[(f"pacer_{p}", _train(p)) for p in PHASES], ("pacer_sterling", build_sterling),
+    return [*[(f"pacer_{p}", phase_step(p)) for p in PHASES], ("pacer_sterling", build_sterling),
             ("pacer_classifier", build_classifier)]

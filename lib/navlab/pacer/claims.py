@@ -18,8 +18,9 @@ interval that covers the seed a reproduction happens to train with as well as th
   Table III to Table IV), is a map's mean low-tier share under the realistic and the inverted preference;
 - a drop from seen to unseen environments cannot be paired by map: ``aerial_map`` draws each group from its
   own seed, so seen map *i* and unseen map *i* share nothing. It is
-  :func:`~navlab.metrics.crossed.two_sample_difference`, the two groups' maps resampled apart, their seeds together (within a map the models stay paired: a difference of drops is the seen maps'
-  mean model difference minus the unseen maps');
+  :func:`~navlab.metrics.crossed.two_sample_difference`, the two groups' maps resampled apart, their seeds
+  together (within a map the models stay paired: a difference of drops is the seen maps' mean model
+  difference minus the unseen maps');
 - "unable to adapt" to inverted preferences (D_real) is a low-tier share under them below chance, the
   uniform costmap's on the same maps: a model that follows its realistic prior walks the inverted
   preference's high tier.

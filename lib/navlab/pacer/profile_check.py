@@ -124,6 +124,6 @@ def variant_problems(params: Params, notes: list[str]) -> list[str]:
     seeds = (p.seed, *p.variants.seeds)
     repeated = sorted({s for s in seeds if seeds.count(s) > 1})
     if repeated:
-        return [f"pacer.variants.seeds = {list(p.variants.seeds)} repeats seed(s) {repeated} (pacer.seed = {p.seed}); "
-                "give each extra training seed once, none equal to pacer.seed"]
+        return [(f"pacer.variants.seeds = {list(p.variants.seeds)} repeats seed(s) {repeated} "
+                 f"(pacer.seed = {p.seed}); give each extra training seed once, none equal to pacer.seed")]
     return []

@@ -6,11 +6,10 @@ from navlab.core.track import Figure, Paper, Track, artifact_stage, notebook_sta
 _TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_epoch",
           "pacer.train.val_examples", "pacer.train.batch_size", "pacer.train.lr", "pacer.train.lr_final_fraction",
           "pacer.train.patience", "pacer.train.device", "pacer.train.threads", "pacer.train.select_on",
-          "pacer.train.select_windows", "pacer.evaluation.cost_scale")  # results follow the device and threads
-# the losses beside Eq. 3 (the main phases key on them through their checkpoints' run key only: a debt for the
-# house's re-run, which retrains them anyway)
-_LOSSES = ("pacer.train.match_loss_weight", "pacer.train.contrast_loss_weight", "pacer.train.contrast_margin")
-_VARIANT = (*_TRAIN, *_LOSSES, "pacer.train.epochs")
+          "pacer.train.select_windows", "pacer.evaluation.cost_scale",  # results follow the device and threads
+          # the losses beside Eq. 3
+          "pacer.train.match_loss_weight", "pacer.train.contrast_loss_weight", "pacer.train.contrast_margin")
+_VARIANT = (*_TRAIN, "pacer.train.epochs")
 # the variant stages' outputs (navlab.pacer.variants): the other seeds' phases, the paper architecture's; the
 # notebooks that read them depend on them
 _VARIANT_OUTS = ("artifacts/pacer/variants/seeds", "artifacts/pacer/variants/paper_architecture")

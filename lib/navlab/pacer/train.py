@@ -170,7 +170,16 @@ def load_model(path: str | Path, device: str | torch.device = "cpu") -> PacerNet
     return load_network(path, lambda saved: build_model(PacerModelParams(**{**old, **saved["model_config"]}),
                                                         context_pairs=saved["context_pairs"],
                                                         patch_size=saved.get("patch_size")),
-                        f"pacer_{path.parent.name}", device)
+                        rebuild_stage(path), device)
+
+
+def rebuild_stage(path: Path) -> str:
+    """The DVC stage that writes a phase's ``model.pt``: ``pacer_<phase>`` for the main model, the variant's stage
+    (``pacer_seeds``, ``pacer_paper_architecture``) for a model under ``artifacts/pacer/variants/<variant>/``."""
+    parts = path.parts
+    if "variants" in parts[:-1] and parts.index("variants") + 1 < len(parts) - 1:
+        return f"pacer_{parts[parts.index('variants') + 1]}"
+    return f"pacer_{path.parent.name}"
 
 
 def resolve_device(name: str) -> torch.device:

@@ -1,5 +1,6 @@
 """PACER's rows beside the main model (issue 61): more training seeds of the main recipe and the paper's own
-architecture, each trained through the three phases exactly as the main model is (``artifacts._train``: the same datasets, selection windows, budget and checkpoint resumption).
+architecture, each trained through the three phases exactly as the main model is (``artifacts.phase_step``: the
+same datasets, selection windows, budget and checkpoint resumption).
 
 Why: one training seed cannot tell a method's effect from its seed's luck (three seeds of one recipe differed
 by up to 0.14 in one set's gap closed, benchmarks/README.md), and a reader cannot see what our additions buy
@@ -23,8 +24,8 @@ from pathlib import Path
 
 from navlab.core.params import Params
 from navlab.core.params.pacer import PacerParams
-from navlab.pacer.artifacts import _train as phase_step
 from navlab.pacer.artifacts import artifact_steps as main_steps
+from navlab.pacer.artifacts import phase_step
 from navlab.pacer.train import PHASES
 
 FOLDER = ("pacer", "variants")  # under artifacts/

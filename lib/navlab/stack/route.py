@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from navlab.core.labels import FREE_IDS, HARD_IDS, SOFT_IDS
+from navlab.core.labels import HARD_IDS, SOFT_IDS
 from navlab.core.params import Params
 from navlab.graphs.region_graph import RegionGraph
 from navlab.maps.semantic_map import SemanticMap
-from navlab.search.dstar_lite import DStarLite
-from navlab.search.grid_astar import plan as grid_plan
 from navlab.stack.world import StackEpisode
+from navlab.surenav.baselines.dstar_lite import DStarLitePolicy
 from navlab.surenav.context.personas import CONTEXT_PERSONAS
 from navlab.surenav.context.walker import ContextWalker
 from navlab.surenav.policy import RelaxationCost, SuReNavPolicy
@@ -51,40 +50,19 @@ class TerrainSuReNavPolicy(SuReNavPolicy):
         super().__init__(with_terrain(cost, terrain, weight), "free_union", window_margin_m)
         self.cell_cost = 1.0 + weight * terrain
 
-    def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
-        frame, labels = believed_map.frame, believed_map.labels
-        position, goal = tuple(int(v) for v in position), tuple(int(v) for v in goal)
-        xy = frame.cell_to_world(np.array([position, goal]))
-        route = self.graph_plan(graph, xy[0], xy[1])
-        if route is None:
-            return None
-        relaxed = route[np.isin(graph.node_label[route], SOFT_IDS)]
-        self.last_relaxed = graph.region_ids[relaxed]
-        admissible = np.isin(labels, FREE_IDS) | np.isin(graph.node_raster, relaxed)
-        return grid_plan(np.where(admissible, self.cell_cost, np.inf), position, goal, resolution=frame.resolution).cells
+    def cell_costs(self, believed_map: SemanticMap) -> np.ndarray:
+        return self.cell_cost
 
 
-class TerrainDStarLite:
+class TerrainDStarLite(DStarLitePolicy):
     """D* Lite (``surenav.baselines.DStarLitePolicy``'s search) on label cost x (1 + w c) per metre."""
 
-    uses_graph = False
-
     def __init__(self, label_costs: np.ndarray, terrain: np.ndarray, weight: float):
-        self.label_costs, self.factor = np.asarray(label_costs, dtype=np.float64), 1.0 + weight * terrain
-        self._search: DStarLite | None = None
-        self._cost: np.ndarray | None = None
+        super().__init__(label_costs)
+        self.factor = 1.0 + weight * terrain
 
-    def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
-        cost = self.label_costs[believed_map.labels] * self.factor
-        if self._search is None:
-            self._search = DStarLite(cost, tuple(position), tuple(goal), resolution=believed_map.frame.resolution)
-        else:
-            self._search.move_to(tuple(position))
-            changed = np.argwhere(cost != self._cost)
-            if len(changed):
-                self._search.update_costs(changed, cost[changed[:, 0], changed[:, 1]])
-        self._cost = cost
-        return self._search.plan().cells
+    def cell_costs(self, believed_map: SemanticMap) -> np.ndarray:
+        return super().cell_costs(believed_map) * self.factor
 
 
 def _full_cells(params: Params) -> int:

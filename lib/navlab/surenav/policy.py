@@ -86,6 +86,11 @@ class SuReNavPolicy:
         """X_G alone (see ``relax``)."""
         return self.relax(graph, position_xy, goal_xy)[2]
 
+    def cell_costs(self, believed_map: SemanticMap) -> np.ndarray | float:
+        """What a metre of an admissible cell costs the grid plan: 1 (the paper's free-space plan); a subclass
+        prices the ground (the stack's terrain costs, ``navlab.stack.route``)."""
+        return 1.0
+
     def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
         if graph is None:
             raise ValueError("SuReNav plans on the region graph: run it with uses_graph = True")
@@ -101,7 +106,7 @@ class SuReNavPolicy:
             admissible = np.isin(labels, FREE_IDS) | np.isin(graph.node_raster, relaxed)
         else:
             admissible = np.isin(graph.node_raster, route)
-        cost = np.where(admissible, 1.0, np.inf)
+        cost = np.where(admissible, self.cell_costs(believed_map), np.inf)
         if self.mode != "graph":
             return grid_plan(cost, position, goal, resolution=frame.resolution).cells
         return self._portal_track(graph, route, cost, position, goal, frame.resolution)

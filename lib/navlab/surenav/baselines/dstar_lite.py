@@ -23,8 +23,12 @@ class DStarLitePolicy:
         self._search: DStarLite | None = None
         self._cost: np.ndarray | None = None
 
+    def cell_costs(self, believed_map: SemanticMap) -> np.ndarray:
+        """Per-metre cost of every cell of the believed map: its label's (a subclass may price the ground too)."""
+        return self.label_costs[believed_map.labels]
+
     def plan(self, believed_map: SemanticMap, graph: RegionGraph | None, position, goal) -> np.ndarray | None:
-        cost = self.label_costs[believed_map.labels]
+        cost = self.cell_costs(believed_map)
         if self._search is None:
             self._search = DStarLite(cost, tuple(position), tuple(goal), resolution=believed_map.frame.resolution)
         else:
