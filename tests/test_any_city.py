@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 import osmium
 import pytest
+from tests.test_maps import _lonlat, _osm_xml, _square
 
 from navlab.core.labels import FREE_IDS, label_id
 from navlab.maps import osm
 from navlab.maps.network import WalkableNetwork
-from tests.test_maps import _lonlat, _osm_xml, _square
 
 OAKLAND = Path("tests/fixtures/West-Oakland.osm.bz2")
 
@@ -39,8 +39,8 @@ def test_a_city_loader_takes_any_extract_path():
     with pytest.warns(osm.MissingTagsWarning) as caught:
         smap, network = osm.read_city("unused", OAKLAND, 2.0)
     # West Oakland maps buildings and sidewalks but no crossing (its four traffic signals carry no crossing=*)
-    assert [str(w.message).split(": ")[1] for w in caught] == ["no crossings mapped (no highway=crossing node, "
-                                                               "crossing=* traffic-signals node or footway=crossing way)"]
+    expected = "no crossings mapped (no highway=crossing node, crossing=* traffic-signals node or footway=crossing way)"
+    assert [str(w.message).split(": ")[1] for w in caught] == [expected]
     assert not (smap.labels == label_id("crosswalk")).any()
     assert smap.name == "West-Oakland"
     assert 300 < smap.labels.shape[1] * 2.0 < 450 and 250 < smap.labels.shape[0] * 2.0 < 400  # ~380 x 330 m

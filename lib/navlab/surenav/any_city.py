@@ -55,8 +55,8 @@ from navlab.maps.tiles import Tile, cut_tiles
 from navlab.metrics.tables import Table
 from navlab.surenav.context import benchmark as context_benchmark
 from navlab.surenav.context import safety
-from navlab.surenav.context.environments import map_demonstrations
 from navlab.surenav.context.dataset import load_index as load_context_index
+from navlab.surenav.context.environments import map_demonstrations
 from navlab.surenav.episodes import CityEpisodes, Environment, city_episodes
 from navlab.surenav.experts.store import _unpack, save_map_demos
 
