@@ -74,6 +74,22 @@ def _data_verify(args) -> int:
     return 0 if ok else 1
 
 
+def _city_run(args) -> int:
+    from navlab.maps.osm import city_path
+    from navlab.pipeline.city import check_name, run_city
+
+    try:  # a bad extract or name is one line before anything runs
+        city_path(None, args.extract)
+        check_name(args.name)
+    except ValueError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    params = load_params(args.profile, args.params)
+    written = run_city(args.extract, args.name, params, args.artifacts_dir, args.out_dir, args.max_tiles)
+    print(f"{args.name} ({params.profile}): " + ", ".join(str(p) for p in written))
+    return 0
+
+
 def _notebook_run(args) -> int:
     from navlab.pipeline.notebooks import run_notebook
 
@@ -244,7 +260,7 @@ def _params_check(args) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m navlab", description=__doc__.splitlines()[0])
     groups = parser.add_subparsers(dest="group", required=True,
-                                   metavar="{data,artifacts,notebook,lab,reports,params,pipeline,sweep}")
+                                   metavar="{data,artifacts,notebook,city,lab,reports,params,pipeline,sweep}")
 
     def profile_arg(p):
         p.add_argument("--profile", choices=PROFILES, default=None,
@@ -288,6 +304,21 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--reports-dir", default=None, help="report folder (default: reports for the profile of "
                                                        "params.yaml, else artifacts/reports/<profile>)")
     r.set_defaults(func=_notebook_run)
+
+    city = groups.add_parser("city", help="a SuReNav test set from your own OpenStreetMap extract, evaluated "
+                                          "(docs/your_city.md)")
+    city_cmds = city.add_subparsers(dest="cmd", required=True)
+    cr = city_cmds.add_parser("run", help="build (or resume) the test set of EXTRACT and write its Table I and "
+                                          "Fig. 4 reports under OUT_DIR/NAME/reports/surenav")
+    cr.add_argument("extract", help="an OpenStreetMap extract: .osm, .osm.pbf, .osm.bz2 or .osm.gz")
+    cr.add_argument("--name", required=True, help="your name for the city: the folder OUT_DIR/NAME")
+    profile_arg(cr)
+    cr.add_argument("--params", type=_params_file, default=None, help="a params.yaml to use instead of the checkout's")
+    cr.add_argument("--artifacts-dir", default=os.environ.get("NAVLAB_ARTIFACTS_DIR", "artifacts"),
+                    help="where the trained models are read (default: $NAVLAB_ARTIFACTS_DIR, else artifacts)")
+    cr.add_argument("--out-dir", default="cities", help="where NAME/ is written (default: cities)")
+    cr.add_argument("--max-tiles", type=int, default=5, help="test tiles at most, the best-mapped first (default: 5)")
+    cr.set_defaults(func=_city_run)
 
     lab = groups.add_parser("lab", help="JupyterLab on notebooks/ (loopback); profile for Run All: $NAVLAB_PROFILE")
     lab.add_argument("options", nargs=argparse.REMAINDER, help="passed to `jupyter lab`, e.g. --port 9999 "

@@ -22,8 +22,15 @@ What each label comes from, painted in this order (later wins, so hard regions a
 7. roads, buffered by their ``width`` tag, else ``lanes`` x 3 m, else a width per highway class;
    living streets get their own label; bridges win over water here;
 8. crosswalks, on road cells only: ``footway=crossing`` ways and a stripe across the road at every
-   ``highway=crossing`` node;
+   ``highway=crossing`` node, and at every ``highway=traffic_signals`` node tagged ``crossing=*`` (not
+   ``no``): the older combined tagging of a signalled crossing, common in North American extracts;
 9. buildings.
+
+Any extract, not only the three shipped cities: ``read_city`` / ``load_city`` take a shipped city's name
+or the path of an ``.osm`` / ``.osm.pbf`` / ``.osm.bz2`` / ``.osm.gz`` file; a header without a bounding
+box takes the nodes' extent. Tags a user's extract may lack do not fail silently: an extract without
+buildings, without any sidewalk or footway, or without crossings gets one warning each
+(``MissingTagsWarning``) naming the fallback the raster then uses.
 
 Dropped everywhere, raster and network alike: indoor, tunnel (incl. building passages), covered and
 below-ground (``layer<0``, ``location=underground``) features, so no route passes under a building.
@@ -33,6 +40,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -88,6 +96,7 @@ WATER = {
     "natural": {"water", "bay"}, "waterway": {"riverbank", "dock"}, "landuse": {"basin", "reservoir"},
     "leisure": {"swimming_pool"}, "amenity": {"fountain"},
 }
+EXTRACT_SUFFIXES = (".osm", ".osm.pbf", ".pbf", ".osm.bz2", ".osm.gz")  # what osmium reads by name
 KEYS = ("highway", "building", "natural", "landuse", "leisure", "amenity", "waterway", "man_made", "place",
         "public_transport")
 
@@ -218,23 +227,75 @@ def sidewalk_sides(tags: dict[str, str]) -> tuple[bool, bool]:
     return value in ("both", "yes", "left"), value in ("both", "yes", "right")
 
 
-def city_path(data_dir: str | Path, city: str) -> Path:
-    if city not in CITIES:
-        raise ValueError(f"unknown city {city!r}; cities are {', '.join(CITIES)}")
-    return require(data_dir, "raw", "osm", f"{city}.osm.pbf")
+class MissingTagsWarning(UserWarning):
+    """An extract lacks a kind of feature (buildings, sidewalks, crossings) and the raster uses a fallback."""
 
 
-def city_projection(path: Path, city: str) -> LocalProjection:
-    box = CITY_BOXES.get(city)
+def is_extract(city: str | Path) -> bool:
+    """Whether ``city`` names an extract file by its suffix rather than a shipped city."""
+    return str(city).lower().endswith(EXTRACT_SUFFIXES)
+
+
+def extract_name(path: str | Path) -> str:
+    """The name of an extract file without its OSM suffix ("West-Oakland.osm.bz2" -> "West-Oakland")."""
+    name = Path(path).name
+    return next((name[:-len(s)] for s in EXTRACT_SUFFIXES if name.lower().endswith(s)), name)
+
+
+def city_path(data_dir: str | Path, city: str | Path) -> Path:
+    """The extract of a shipped city (under ``data_dir``/raw/osm) or ``city`` itself when it is an extract file.
+
+    Why both: the three shipped cities are built by ``data build``; any other city is a file the user gives
+    (``docs/your_city.md``), so a loader must not refuse it."""
+    if str(city) in CITIES:
+        return require(data_dir, "raw", "osm", f"{city}.osm.pbf")
+    path = Path(city)
+    if not is_extract(path):
+        raise ValueError(f"unknown city {str(city)!r}: give one of {', '.join(CITIES)} or the path of an "
+                         f"OpenStreetMap extract ({', '.join(EXTRACT_SUFFIXES)})")
+    if not path.is_file():
+        raise ValueError(f"{path}: no such extract file; check the path (an OpenStreetMap extract, "
+                         f"{', '.join(EXTRACT_SUFFIXES)})")
+    return path
+
+
+def nodes_box(path: str | Path) -> tuple[float, float, float, float]:
+    """(west, south, east, north) of every node with a location: the box of an extract whose header has none."""
+    lon, lat = [], []
+    for node in osmium.FileProcessor(str(path), osmium.osm.NODE):
+        if node.location.valid():
+            lon.append(node.location.lon)
+            lat.append(node.location.lat)
+    if not lon:
+        raise ValueError(f"{path}: no node with a location, so no map area; give an extract that holds the "
+                         "nodes of its ways (e.g. export it again from openstreetmap.org or cut it with osmium extract)")
+    if min(lon) == max(lon) or min(lat) == max(lat):
+        raise ValueError(f"{path}: its nodes span no area (all on one line of longitude or latitude); give a "
+                         "larger extract")
+    return min(lon), min(lat), max(lon), max(lat)
+
+
+def city_projection(path: Path, city: str | Path) -> LocalProjection:
+    """The city's frame: its fixed box (Monaco), else the extract header's box, else the nodes' extent."""
+    box = CITY_BOXES.get(str(city))
     if box is None:
         reader = osmium.io.Reader(str(path), osmium.osm.osm_entity_bits.NOTHING)
         try:
             header_box = reader.header().box()
         finally:
             reader.close()
-        box = (header_box.bottom_left.lon, header_box.bottom_left.lat,
-               header_box.top_right.lon, header_box.top_right.lat)
+        if header_box.valid():
+            box = (header_box.bottom_left.lon, header_box.bottom_left.lat,
+                   header_box.top_right.lon, header_box.top_right.lat)
+        else:  # no <bounds> / pbf bbox: osmium's Box is "invalid location"; the nodes' extent is the map
+            box = nodes_box(path)
     return LocalProjection(*box)
+
+
+def is_crossing_node(tags) -> bool:
+    """A crossing node: ``highway=crossing``, or ``highway=traffic_signals`` with ``crossing=*`` (not ``no``)."""
+    highway = tags.get("highway")
+    return highway == "crossing" or (highway == "traffic_signals" and tags.get("crossing", "no") != "no")
 
 
 def read_features(path: str | Path, projection: LocalProjection) -> OsmFeatures:
@@ -253,7 +314,7 @@ def read_features(path: str | Path, projection: LocalProjection) -> OsmFeatures:
     processor = osmium.FileProcessor(str(path)).with_areas().with_filter(osmium.filter.KeyFilter(*KEYS))
     for obj in processor:
         if obj.is_node():
-            if obj.tags.get("highway") == "crossing":
+            if is_crossing_node(obj.tags):
                 feats.crossings[obj.id] = projection.project([(obj.location.lon, obj.location.lat)])[0]
         elif obj.is_way():
             tags = dict(obj.tags)
@@ -408,23 +469,48 @@ def walkable_network(feats: OsmFeatures) -> WalkableNetwork:
     return WalkableNetwork(xy[first], edges.astype(np.int64))
 
 
+def missing_tags(feats: OsmFeatures) -> list[str]:
+    """One sentence per kind of feature the extract does not map, naming the fallback the raster uses."""
+    kinds = [line_kind(tags) for tags, _, _ in feats.lines]
+    labels = {area_label(tags) for tags, _ in feats.areas}
+    found = []
+    if "building" not in labels:
+        found.append("no buildings mapped: blocks are rasterised as rough_terrain (untagged open ground), "
+                     "so a walker may cut across them")
+    tagged = any(sidewalk_sides(t) != (False, False) and ("sidewalk" in t or any(k.startswith("sidewalk:") for k in t))
+                 for t, _, _ in feats.lines if line_kind(t) in ("road", "living_street"))
+    if not tagged and "path" not in kinds and "sidewalk" not in labels:
+        derived = any(t.get("highway") in SIDEWALK_DERIVED_ON for t, _, _ in feats.lines)
+        found.append("no sidewalks or footways mapped: sidewalks are derived on both sides of untagged primary.."
+                     "residential roads" + ("" if derived else ", and there are none, so the map has no sidewalk"))
+    if not feats.crossings and "crossing" not in kinds:
+        found.append("no crossings mapped (no highway=crossing node, crossing=* traffic-signals node or "
+                     "footway=crossing way): the map has no crosswalk cells, roads are crossed on road cells")
+    return found
+
+
 def read_extract(path: str | Path, projection: LocalProjection, resolution_m: float,
                  name: str) -> tuple[SemanticMap, WalkableNetwork]:
-    """Any .osm/.osm.pbf file over ``projection``'s box: its semantic map and walkable network, the
-    network restricted to the map's non-hard cells."""
+    """Any .osm/.osm.pbf/.osm.bz2 file over ``projection``'s box: its semantic map and walkable network, the
+    network restricted to the map's non-hard cells. Each kind of feature the extract lacks is a
+    ``MissingTagsWarning`` naming the fallback (``missing_tags``), never a silently emptier tile."""
     feats = read_features(path, projection)
+    for sentence in missing_tags(feats):
+        warnings.warn(f"{name} ({Path(path).name}): {sentence}", MissingTagsWarning, stacklevel=2)
     width, height = projection.size_m
     frame = RasterFrame((int(height // resolution_m), int(width // resolution_m)), float(resolution_m))
     smap = SemanticMap(name, rasterize(feats, frame.shape, resolution_m), frame)
     return smap, restrict_to_map(walkable_network(feats), smap)
 
 
-def read_city(data_dir: str | Path, city: str, resolution_m: float) -> tuple[SemanticMap, WalkableNetwork]:
-    """The city's semantic map and its walkable network."""
+def read_city(data_dir: str | Path, city: str | Path, resolution_m: float) -> tuple[SemanticMap, WalkableNetwork]:
+    """The city's semantic map and its walkable network: a shipped city's name or an extract's path
+    (``city_path``); an extract's map is named after its file (``extract_name``)."""
     path = city_path(data_dir, city)
-    return read_extract(path, city_projection(path, city), resolution_m, city)
+    name = str(city) if str(city) in CITIES else extract_name(path)
+    return read_extract(path, city_projection(path, city), resolution_m, name)
 
 
-def load_city(data_dir: str | Path, city: str, resolution_m: float) -> SemanticMap:
-    """The semantic map of a whole city extract (``helsinki``, ``kouvola`` or ``monaco``)."""
+def load_city(data_dir: str | Path, city: str | Path, resolution_m: float) -> SemanticMap:
+    """The semantic map of a whole city extract (``helsinki``, ``kouvola``, ``monaco`` or an extract's path)."""
     return read_city(data_dir, city, resolution_m)[0]

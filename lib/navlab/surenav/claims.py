@@ -382,6 +382,9 @@ def fig4_claims(outcomes: Sequence[Outcome], seed: int) -> list[Claim]:
     methods = (SURENAV, *BASELINES)
 
     def per_city(key: str, column: str, among: Sequence[str], test: CityTest) -> Test:
+        if not among:  # a user's city (``surenav.any_city``) is none of the paper's unstructured ones
+            return Test("not tested", f"no episode city is one of {', '.join(UNSTRUCTURED)}, the cities this "
+                                      "claim is stated for")
         return all_of({c: test(paired_values(outcomes, methods, column, c), c,
                                  rng(seed, "surenav.claims", FIG4, key, c)) for c in among})
 
