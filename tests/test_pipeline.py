@@ -68,8 +68,9 @@ def test_data_stage_builds_the_snapshot():
 _PACER_PENDING = (
     "house re-run part 1 (2026-12-03 e): PACER's code moved without changing what it computes "
     "(artifacts.phase_step made public, the loss params declared, metrics.crossed's draws factored: same "
-    "numbers) and phases 1-3 were retrained on it; this stage's re-run (~2.5 h on a 2-core AMD EPYC) did not "
-    "fit the session (the baselines and notebook 01 did): its output comes from the previous lock's phase models"
+    "numbers) and phases 1-3 were retrained on it; this stage's re-run (~2.5 h on a 2-core AMD EPYC) "
+    "did not fit the session (the baselines and notebook 01 did): its output comes from the previous lock's "
+    "phase models"
 )
 KNOWN_STALE: dict[str, str] = {
     "pacer_seeds": _PACER_PENDING,
