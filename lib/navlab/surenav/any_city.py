@@ -69,7 +69,8 @@ def extract_digest(path: str | Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def choose_tiles(name: str, smap: SemanticMap, network: WalkableNetwork, params: Params, max_tiles: int) -> list[Tile]:
+def choose_tiles(name: str, smap: SemanticMap, network: WalkableNetwork, params: Params,
+                 max_tiles: int) -> list[Tile]:
     """The test tiles: the ``max_tiles`` whole tiles with the most sidewalk among those with enough (the whole
     map as one tile when it is smaller than a tile), in name order; none is a DataError naming the fix."""
     p = params.data.maps
@@ -119,7 +120,8 @@ def build_tile(tile: Tile, city: str, params: Params, folder: Path, key: str) ->
     tile.network.save(folder / f"{smap.name}.network.npz")
     save_map_demos(folder / f"{smap.name}.demos.npz", superpixels, [], demos, key)
     # written last, with the key: its presence with this key marks the tile complete
-    save_npz(folder / f"{smap.name}.episodes.npz", {"key": np.array(key), **{k: np.asarray(v) for k, v in asdict(eps).items()}})
+    arrays = {k: np.asarray(v) for k, v in asdict(eps).items()}
+    save_npz(folder / f"{smap.name}.episodes.npz", {"key": np.array(key), **arrays})
 
 
 def build_test_set(extract: str | Path, name: str, params: Params, folder: str | Path,
