@@ -74,9 +74,40 @@ def _data_verify(args) -> int:
     return 0 if ok else 1
 
 
+def run_city(extract: str | Path, name: str, params, artifacts_dir: str | Path, out_root: str | Path = "cities",
+             max_tiles: int = 5, progress: bool = True) -> list[Path]:
+    """``city run``: build (or resume) the test set of ``extract`` under ``out_root/name/testset`` and write its
+    Table I and Fig. 4 reports (JSON + Markdown, and the Fig. 4 figure) under ``out_root/name/reports``.
+
+    Why here: the test set and the evaluation are ``surenav.any_city``; the reports are written as the
+    notebooks write theirs (``pipeline.reports``), which only the command layer may join to a track."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from navlab.pipeline.reports import write_table
+    from navlab.surenav.any_city import build_test_set, check_name, evaluate, load_test_set
+    from navlab.viz.surenav_benchmark import draw_safety_efficiency
+
+    out = Path(out_root, check_name(name))
+    build_test_set(extract, name, params, out / "testset", max_tiles)
+    table1, fig4 = evaluate(load_test_set(out / "testset"), params, artifacts_dir, name, progress)
+    reports = out / "reports"
+    seeds = list(params.surenav.train.seeds)
+    written = [write_table(reports, t, track="surenav", profile=params.profile, seeds=seeds) for t in (table1, fig4)]
+    figure = reports / "surenav" / "figures" / "fig4_safety_efficiency.png"
+    figure.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+    draw_safety_efficiency(ax, fig4.rows)
+    fig.savefig(figure, dpi=120)
+    plt.close(fig)
+    return [*written, figure]
+
+
 def _city_run(args) -> int:
     from navlab.maps.osm import city_path
-    from navlab.pipeline.city import check_name, run_city
+    from navlab.surenav.any_city import check_name
 
     try:  # a bad extract or name is one line before anything runs
         city_path(None, args.extract)

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 import warnings
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -63,6 +64,17 @@ from navlab.surenav.experts.store import _unpack, save_map_demos
 INDEX = "index.json"
 DEFAULT_MAX_TILES = 5  # as many test tiles as the shipped benchmark's human-likeness set
 _FIX = "run `python -m navlab city run EXTRACT --name NAME` again (it rebuilds what is missing)"
+
+
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
+
+
+def check_name(name: str) -> str:
+    """A name usable as a folder and a tile prefix, else one line naming it and the fix."""
+    if not _NAME.fullmatch(name):
+        raise ValueError(f"--name {name!r}: use letters, digits, '_', '.' or '-' (it names the folder "
+                         f"NAME/ under --out-dir and the tiles), starting with a letter or digit")
+    return name
 
 
 def extract_digest(path: str | Path) -> str:
