@@ -65,19 +65,7 @@ def test_data_stage_builds_the_snapshot():
 
 # Stages whose committed report is known to come from older code, each with the reason; the test below
 # fails when any other stage is stale, and when one of these becomes current (then delete its line).
-_PACER_PENDING = (
-    "house re-run part 1 (2026-12-03 e): PACER's code moved without changing what it computes "
-    "(artifacts.phase_step made public, the loss params declared, metrics.crossed's draws factored: same "
-    "numbers) and phases 1-3 were retrained on it; this stage's re-run (~2.5 h on a 2-core AMD EPYC) "
-    "did not fit the session (the baselines and notebook 01 did): its output comes from the previous lock's "
-    "phase models"
-)
-KNOWN_STALE: dict[str, str] = {
-    "pacer_seeds": _PACER_PENDING,
-    "pacer_paper_architecture": _PACER_PENDING,
-    "pacer_02_navigation": _PACER_PENDING,
-    "pacer_03_phase_ablation": _PACER_PENDING,
-}
+KNOWN_STALE: dict[str, str] = {}
 
 
 @pytest.mark.provenance
