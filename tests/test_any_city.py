@@ -127,8 +127,8 @@ def oakland_run(tmp_path_factory):
     their stages make them, only smaller: West Oakland's own demonstrations stand in as the context
     training and validation tiles (``surenav_context_demos``'s layout) and ``build_context_estimators`` trains
     every estimator run on them (smoke: 2 epochs). It tests the plumbing, not the models' quality."""
-    from navlab.core.params import load_params
     from navlab.cli import run_city
+    from navlab.core.params import load_params
     from navlab.surenav.any_city import build_test_set, load_test_set
     from navlab.surenav.context.dataset import FOLDER, relaxation_mix
     from navlab.surenav.context.training import build_context_estimators
