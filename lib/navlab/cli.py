@@ -74,10 +74,14 @@ def _data_verify(args) -> int:
     return 0 if ok else 1
 
 
-def run_city(extract: str | Path, name: str, params, artifacts_dir: str | Path, out_root: str | Path = "cities",
-             max_tiles: int = 5, progress: bool = True) -> list[Path]:
+CITIES_DIR = "cities"  # `city run --out-dir`'s default (ignored by git)
+
+
+def run_city(extract: str | Path, name: str, params, artifacts_dir: str | Path, out_root: str | Path = CITIES_DIR,
+             max_tiles: int | None = None, progress: bool = True) -> list[Path]:
     """``city run``: build (or resume) the test set of ``extract`` under ``out_root/name/testset`` and write its
-    Table I and Fig. 4 reports (JSON + Markdown, and the Fig. 4 figure) under ``out_root/name/reports``.
+    Table I and Fig. 4 reports (JSON + Markdown, and the Fig. 4 figure) under ``out_root/name/reports``;
+    ``max_tiles`` None keeps ``surenav.any_city.DEFAULT_MAX_TILES``.
 
     Why here: the test set and the evaluation are ``surenav.any_city``; the reports are written as the
     notebooks write theirs (``pipeline.reports``), which only the command layer may join to a track."""
@@ -87,11 +91,11 @@ def run_city(extract: str | Path, name: str, params, artifacts_dir: str | Path, 
     import matplotlib.pyplot as plt
 
     from navlab.pipeline.reports import write_table
-    from navlab.surenav.any_city import build_test_set, check_name, evaluate, load_test_set
+    from navlab.surenav.any_city import DEFAULT_MAX_TILES, build_test_set, check_name, evaluate, load_test_set
     from navlab.viz.surenav_benchmark import draw_safety_efficiency
 
     out = Path(out_root, check_name(name))
-    build_test_set(extract, name, params, out / "testset", max_tiles)
+    build_test_set(extract, name, params, out / "testset", DEFAULT_MAX_TILES if max_tiles is None else max_tiles)
     table1, fig4 = evaluate(load_test_set(out / "testset"), params, artifacts_dir, name, progress)
     reports = out / "reports"
     seeds = list(params.surenav.train.seeds)
@@ -347,8 +351,9 @@ def build_parser() -> argparse.ArgumentParser:
     cr.add_argument("--params", type=_params_file, default=None, help="a params.yaml to use instead of the checkout's")
     cr.add_argument("--artifacts-dir", default=os.environ.get("NAVLAB_ARTIFACTS_DIR", "artifacts"),
                     help="where the trained models are read (default: $NAVLAB_ARTIFACTS_DIR, else artifacts)")
-    cr.add_argument("--out-dir", default="cities", help="where NAME/ is written (default: cities)")
-    cr.add_argument("--max-tiles", type=int, default=5, help="test tiles at most, the best-mapped first (default: 5)")
+    cr.add_argument("--out-dir", default=CITIES_DIR, help=f"where NAME/ is written (default: {CITIES_DIR})")
+    cr.add_argument("--max-tiles", type=int, default=None,
+                    help="test tiles at most, the best-mapped first (default: 5, surenav.any_city.DEFAULT_MAX_TILES)")
     cr.set_defaults(func=_city_run)
 
     lab = groups.add_parser("lab", help="JupyterLab on notebooks/ (loopback); profile for Run All: $NAVLAB_PROFILE")

@@ -64,8 +64,6 @@ from navlab.surenav.experts.store import _unpack, save_map_demos
 INDEX = "index.json"
 DEFAULT_MAX_TILES = 5  # as many test tiles as the shipped benchmark's human-likeness set
 _FIX = "run `python -m navlab city run EXTRACT --name NAME` again (it rebuilds what is missing)"
-
-
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 
 
