@@ -1,0 +1,56 @@
+"""One CPU code path for every machine: the numerical libraries' kernels pinned to the AVX2 level.
+
+Why: torch (ATen's vector kernels, oneDNN's convolutions), OpenCV and NumPy each choose their kernels by the
+CPU's instruction sets when they load, and kernels of another vector width round differently. On one machine,
+capping oneDNN at AVX instead of AVX2 gives other PACER weights after four training steps, OpenCV without its
+AVX2 paths renders other training items, and ATen's generic kernels draw other ``torch.randn`` numbers
+(``benchmarks/pacer_reproducibility.py``). So an artefact trained on an AVX-512 machine cannot be rebuilt bit
+for bit on an AVX2 one, and every stage downstream of it must re-run whenever it is rebuilt.
+
+``python -m navlab`` (every DVC stage, notebook run and JupyterLab kernel it starts) therefore caps each library
+at AVX2, the level of the x86-64 machines this pipeline runs on, before any of them loads. On an AVX2 machine
+that changes nothing; on an AVX-512 one it gives up the wider kernels. A variable the user has set wins.
+Not pinned: MKL (``MKL_CBWR`` changes none of torch's results here: its products run in oneDNN) and numba
+(LLVM neither reassociates nor contracts floating point without ``fastmath``).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+from collections.abc import MutableMapping
+from pathlib import Path
+
+# OpenCV's names of the AVX-512 feature sets its builds dispatch to (cv::getHardwareFeatureName)
+OPENCV_AVX512 = ("AVX512F", "AVX512-SKX", "AVX512-KNL", "AVX512-KNM", "AVX512-CNL", "AVX512-CLX", "AVX512-ICL")
+
+
+def pins(cpu_flags: set[str], machine: str = "x86_64") -> dict[str, str]:
+    """The environment that keeps torch, oneDNN, NumPy and OpenCV at the AVX2 level on a CPU with
+    ``cpu_flags`` (/proc/cpuinfo's names). OpenCV warns about disabling a feature the CPU lacks, so it is
+    pinned only on a CPU with AVX-512; none of this applies off x86-64."""
+    if machine.lower() not in ("x86_64", "amd64"):
+        return {}
+    env = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2",
+           "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"}
+    if "avx512f" in cpu_flags:
+        env["OPENCV_CPU_DISABLE"] = ",".join(OPENCV_AVX512)
+    return env
+
+
+def cpu_flags(cpuinfo: str | Path = "/proc/cpuinfo") -> set[str]:
+    """The instruction-set flags of the first CPU in ``cpuinfo`` (an empty set where there is none)."""
+    try:
+        text = Path(cpuinfo).read_text()
+    except OSError:
+        return set()
+    line = next((row for row in text.splitlines() if row.startswith("flags")), "")
+    return set(line.partition(":")[2].split())
+
+
+def pin_code_paths(environ: MutableMapping[str, str] = os.environ) -> dict[str, str]:
+    """Set ``pins`` for this machine in ``environ`` where unset; call it before torch, cv2 or numpy load.
+    Returns what is in force."""
+    for name, value in pins(cpu_flags(), platform.machine()).items():
+        environ.setdefault(name, value)
+    return {name: environ[name] for name in pins(cpu_flags(), platform.machine())}
