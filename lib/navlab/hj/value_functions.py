@@ -10,19 +10,54 @@ the BRT growing with speed). The values and the verdicts (``hj.claims``) are rec
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from navlab.core.grid import RasterFrame
+from navlab.core.params import Params
 from navlab.hj.claims import FORWARD_ONLY, fig2_claims, fig2_forward_only_check, fig3_claims
-from navlab.hj.guidance import euclidean_time
+from navlab.hj.grids import forward_only, forward_only_root, load_map_ttr, load_static_brt, load_ttr
+from navlab.hj.guidance import euclidean_time, geodesic_time_field
 from navlab.hj.paper import PAPER
+from navlab.maps.rooms import Room, load_room
 from navlab.metrics.tables import Table
+from navlab.reach.grid import Grid
+from navlab.reach.lookup import StaticBRTLookup
 
 FIG2_COLUMNS = ["heading", "map_ttr_s", "general_ttr_s", "map_dist_s", "general_dist_s"]
 FIG3_COLUMNS = ["speed", "unsafe_fraction"]  # speed as text ("0.33 m/s"): the row's key
 HEURISTICS = {"map TTR": "map_ttr_s", "general TTR": "general_ttr_s", "map Dist": "map_dist_s",
               "general Dist": "general_dist_s"}
+# Fig. 2's robots (x, y, v, θ): at 0.5 m/s heading up, then reversed, as the paper's two rows
+FIG2_ROBOTS = ((1.0, 1.0, 0.5, np.pi / 2), (1.0, 1.0, 0.5, -np.pi / 2))
+FIG2_HEADINGS = ("heading up (+y)", "heading down (-y)")
+ROOM = "simulation"  # the room of Figs. 2-3 (and of hj.grids.map_ttr's goal)
+GEODESIC_RESOLUTION_M = 0.1  # map Dist's raster
+FIG3_SPEEDS = 4  # Fig. 3's BRT slices: this many speeds from 0 to v_max
+
+
+@dataclass(frozen=True)
+class Fig2:
+    """What Fig. 2 draws and its table reports: the four heuristics at ``FIG2_ROBOTS`` and the lookups
+    and field they come from (``viz.hj_figures.fig2_figure`` contours the same ones over the room)."""
+    room: Room
+    goal: np.ndarray
+    ttr: Callable
+    map_ttr: Callable
+    geodesic: tuple[np.ndarray, RasterFrame]
+    values: dict[tuple[int, str], float]
+    table: Table
+
+
+@dataclass(frozen=True)
+class Fig3:
+    """What Fig. 3 draws and its table reports: the static BRT of ``ROOM`` sliced at ``speeds``."""
+    room: Room
+    brt: StaticBRTLookup
+    speeds: np.ndarray
+    table: Table
 
 
 def heuristic_values(robots: Sequence[tuple[float, float, float, float]], goal_xy, ttr: Callable, map_ttr: Callable,
@@ -65,6 +100,42 @@ def fig2_table(values: Mapping[tuple[int, str], float], headings: Sequence[str],
              "same spacing); Dist does not depend on the car.")
     return Table("fig2_heuristic_values", "HJ-search Fig. 2", FIG2_COLUMNS, rows + forward, paper, notes,
                  [*fig2_claims(rows, slack_s), *([fig2_forward_only_check(rows, forward)] if forward else [])])
+
+
+def fig2(params: Params, artifacts_dir: str | Path) -> Fig2:
+    """Fig. 2 from the ``hj_grids`` artefacts: the heuristics at its robots, with the forward-only car's rows
+    (its own TTR grids) where the default car reverses."""
+    g = params.hj.grids
+    room, goal = load_room(ROOM), np.asarray(g.map_ttr.goal_xy)
+    ttr, map_ttr = load_ttr(params, artifacts_dir), load_map_ttr(params, artifacts_dir)
+    geodesic = geodesic_time_field(room, goal, g.robot.v_max, g.robot.radius_m, resolution=GEODESIC_RESOLUTION_M)
+    values = heuristic_values(FIG2_ROBOTS, goal, ttr, map_ttr, geodesic, g.robot.v_max)
+    forward_values = None
+    if g.robot.v_min < 0:
+        forward, root = forward_only(params), forward_only_root(artifacts_dir)
+        forward_values = heuristic_values(FIG2_ROBOTS, goal, load_ttr(forward, root), load_map_ttr(forward, root),
+                                          geodesic, g.robot.v_max)
+    table = fig2_table(values, FIG2_HEADINGS, g.ttr.goal_radius_m / g.robot.v_max, forward_values)
+    return Fig2(room, goal, ttr, map_ttr, geodesic, values, table)
+
+
+def speed_slice(values: np.ndarray, grid: Grid, v: float, v_axis: int = 2) -> np.ndarray:
+    """Values at speed ``v`` (linear between the two nearest speed nodes): an (x, y, θ) array."""
+    idx = np.clip((v - grid.lo[v_axis]) / grid.spacing[v_axis], 0.0, grid.shape[v_axis] - 1.0)
+    i0 = min(int(idx), grid.shape[v_axis] - 2)
+    w = idx - i0
+    a, b = np.take(values, i0, axis=v_axis), np.take(values, i0 + 1, axis=v_axis)
+    return (1.0 - w) * np.asarray(a, dtype=np.float32) + w * np.asarray(b, dtype=np.float32)
+
+
+def fig3(params: Params, artifacts_dir: str | Path) -> Fig3:
+    """Fig. 3 from the ``hj_grids`` artefacts: the static BRT's unsafe share at ``FIG3_SPEEDS`` speeds."""
+    g = params.hj.grids
+    room = load_room(ROOM)
+    brt = load_static_brt(params, artifacts_dir, room.name)
+    speeds = np.linspace(0.0, g.robot.v_max, FIG3_SPEEDS)
+    unsafe = [float((speed_slice(brt.stored.values, brt.grid, v) < 0).mean()) for v in speeds]
+    return Fig3(room, brt, speeds, fig3_table(speeds, unsafe))
 
 
 def fig3_table(speeds: Sequence[float], unsafe: Sequence[float]) -> Table:

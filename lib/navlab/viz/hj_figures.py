@@ -3,10 +3,14 @@ human-robot BRT in the robot's frame."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Circle, Rectangle
 
+from navlab.hj.guidance import euclidean_time
+from navlab.hj.value_functions import FIG2_ROBOTS, Fig2, Fig3, speed_slice
 from navlab.maps.rooms import Disc, Rect, Room
 
 
@@ -28,8 +32,6 @@ def heuristic_fields(room: Room, goal, robots: list[tuple[float, float, float, f
     """Fig. 2's four heuristics over the room's free positions, as ``heuristic_contours`` takes them: the two
     TTRs at each robot's speed and heading (one field per robot), map Dist (``geodesic``: the field and frame of
     ``hj.guidance.geodesic_time_field``, whose cell centres are the plotted positions) and general Dist."""
-    from navlab.hj.guidance import euclidean_time
-
     geo, frame = geodesic
     rows, cols = geo.shape
     X, Y = np.meshgrid(frame.origin[0] + (np.arange(cols) + 0.5) * frame.resolution,
@@ -72,7 +74,7 @@ def heuristic_contours(room: Room, fields: dict[str, tuple[np.ndarray, np.ndarra
     return fig
 
 
-def brt_slices(room: Room, values: np.ndarray, grid, speeds, theta: float, speed_slice):
+def brt_slices(room: Room, values: np.ndarray, grid, speeds, theta: float):
     """Fig. 3: the static BRT {V < 0} at heading ``theta`` for several speeds (it grows with speed)."""
     th_idx = round((theta - grid.lo[3]) / grid.spacing[3]) % grid.shape[3]
     X, Y = np.meshgrid(grid.axis(0), grid.axis(1), indexing="ij")
@@ -110,3 +112,27 @@ def human_brt_figure(human, v_max: float, horizon_s: float):
     ax.set_ylabel("human left (m)")
     ax.set_title(f"human-robot BRT, horizon {horizon_s} s", fontsize=9)
     return fig
+
+
+def _save(fig, path: str | Path) -> None:
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def draw_fig2(fig2: Fig2, robot_radius: float, v_max: float, horizon_s: float, path: str | Path) -> None:
+    """Fig. 2 of ``hj.value_functions.fig2`` as a PNG at ``path``: the four heuristics contoured over the room
+    at each robot's speed and heading, 25 levels from 0 to max(12 s, the TTR horizon)."""
+    fields = heuristic_fields(fig2.room, fig2.goal, list(FIG2_ROBOTS), fig2.ttr, fig2.map_ttr, fig2.geodesic,
+                              robot_radius, v_max)
+    _save(heuristic_contours(fig2.room, fields, list(FIG2_ROBOTS), fig2.goal, fig2.values,
+                             np.linspace(0, max(12.0, horizon_s), 25)), path)
+
+
+def draw_fig3(fig3: Fig3, path: str | Path) -> None:
+    """Fig. 3 of ``hj.value_functions.fig3`` as a PNG at ``path``: the static BRT's slices at heading 0."""
+    _save(brt_slices(fig3.room, np.asarray(fig3.brt.stored.values), fig3.brt.grid, fig3.speeds, theta=0.0), path)
+
+
+def draw_human_brt(human, v_max: float, horizon_s: float, path: str | Path) -> None:
+    """``human_brt_figure`` as a PNG at ``path``."""
+    _save(human_brt_figure(human, v_max, horizon_s), path)

@@ -9,18 +9,10 @@ from __future__ import annotations
 import numpy as np
 from skimage.measure import marching_cubes
 
+from navlab.hj.value_functions import speed_slice
 from navlab.maps.rooms import Disc, Rect, Room
 from navlab.reach.grid import Grid
 from navlab.viz.meshcat_html import add_box, add_cylinder, add_mesh, offline_visualizer
-
-
-def speed_slice(values: np.ndarray, grid: Grid, v: float, v_axis: int = 2) -> np.ndarray:
-    """Values at speed ``v`` (linear between the two nearest speed nodes): an (x, y, θ) array."""
-    idx = np.clip((v - grid.lo[v_axis]) / grid.spacing[v_axis], 0.0, grid.shape[v_axis] - 1.0)
-    i0 = min(int(idx), grid.shape[v_axis] - 2)
-    w = idx - i0
-    a, b = np.take(values, i0, axis=v_axis), np.take(values, i0 + 1, axis=v_axis)
-    return (1.0 - w) * np.asarray(a, dtype=np.float32) + w * np.asarray(b, dtype=np.float32)
 
 
 def zero_level_mesh(slice_xyt: np.ndarray, grid: Grid, theta_height: float) -> tuple[np.ndarray, np.ndarray]:
