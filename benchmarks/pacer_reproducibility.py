@@ -15,7 +15,7 @@ child processes that differ in one setting each, and prints the sha256 of the we
 
 A setting whose hash differs from the first run changes the trained weights. Needs ``data/`` (``python -m
 navlab data build``).
-Usage: python benchmarks/pacer_reproducibility.py [--steps 6] [--profile default]
+Usage: python benchmarks/pacer_reproducibility.py [--steps 6] [--profile default] [--variants NAME ...]
 """
 
 from __future__ import annotations
@@ -86,13 +86,16 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=6)
     parser.add_argument("--profile", default="default")
     parser.add_argument("--data", default="data")
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS),
+                        help="the settings to train under (default: all; the first is the reference)")
     parser.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)  # threads, in a child run
     args = parser.parse_args()
     if args.child is not None:
         print(json.dumps(train_steps(args.profile, args.data, args.steps, args.child or None)))
         return
     first = None
-    for name, (env, threads) in VARIANTS.items():
+    for name in args.variants:
+        env, threads = VARIANTS[name]
         tic = time.perf_counter()
         out = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--profile", args.profile,
                               "--data", args.data, "--child", str(threads or 0)],
