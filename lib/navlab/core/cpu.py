@@ -51,6 +51,7 @@ def cpu_flags(cpuinfo: str | Path = "/proc/cpuinfo") -> set[str]:
 def pin_code_paths(environ: MutableMapping[str, str] = os.environ) -> dict[str, str]:
     """Set ``pins`` for this machine in ``environ`` where unset; call it before torch, cv2 or numpy load.
     Returns what is in force."""
-    for name, value in pins(cpu_flags(), platform.machine()).items():
+    wanted = pins(cpu_flags(), platform.machine())
+    for name, value in wanted.items():
         environ.setdefault(name, value)
-    return {name: environ[name] for name in pins(cpu_flags(), platform.machine())}
+    return {name: environ[name] for name in wanted}
