@@ -6,6 +6,9 @@
 2. Lattice A* with the TTR heuristic, BRT pruner and swept collision check on: expansions per second of
    the compiled search vs the plain-Python heapq reference (numpy look-ups through reach.lookup) on the
    same tasks.
+3. The first step of every re-plan (``dubins_lattice.first_step``: the primitives from the car's measured
+   speed, integrated per re-plan): compiled vs the plain-Python loop it replaced (``lattice_reference``), the
+   same floats.
 
 Grids are built (or re-used) for ``--profile`` under ``--artifacts``.
 Usage: python benchmarks/hj_planner.py [--profile default] [--artifacts artifacts] [--calls 10000]
@@ -25,7 +28,8 @@ from navlab.hj.grids import build_hj_grids
 from navlab.hj.planning import Planner
 from navlab.hj.timing import expansion_inputs, in_search_seconds, time_calls
 from navlab.reach.lookup import to_goal_frame
-from navlab.search.lattice_reference import astar_reference
+from navlab.search.dubins_lattice import first_step
+from navlab.search.lattice_reference import astar_reference, first_step_rows_reference
 from navlab.search.lattice_search import Budget, Goal, Pruners, search
 
 PAPER_US = {"TTR": 18.7, "BRT": 24.7}  # Table VII: 0.187 s and 0.247 s per 10,000 calls
@@ -118,6 +122,18 @@ def main() -> None:
     print(f"lattice A* with TTR + BRT: ours {cpu['ours']:.3g} expansions per CPU second ({wall['ours']:.3g} per wall "
           f"second), plain-Python heapq reference {cpu['ref']:.3g} ({wall['ref']:.3g}), ratio "
           f"{cpu['ours'] / cpu['ref']:.0f}x")
+
+    speeds = np.linspace(spec.v_min, spec.v_max, 37)[1:-1]  # off-level speeds, as measured ones are
+    first_step(spec, float(speeds[0]))  # compiled (or loaded from numba's cache) before timing
+    controls = [first_step(spec, float(v))[1] for v in speeds]
+    c0 = time.process_time()
+    ours = [first_step(spec, float(v))[0] for v in speeds]
+    c1 = time.process_time()
+    refs = [first_step_rows_reference(spec, float(v), c) for v, c in zip(speeds, controls)]
+    c2 = time.process_time()
+    same = all(np.array_equal(o[:, :-1], r[:, :-1]) for o, r in zip(ours, refs))
+    print(f"first step ({len(spec.controls)} primitives): compiled {(c1 - c0) / len(speeds) * 1e3:.3f} ms per re-plan, "
+          f"plain Python {(c2 - c1) / len(speeds) * 1e3:.3f} ms, ratio {(c2 - c1) / (c1 - c0):.0f}x; same floats: {same}")
 
 
 if __name__ == "__main__":

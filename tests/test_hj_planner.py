@@ -33,7 +33,7 @@ from navlab.search.dubins_lattice import (
     snap,
     successor_samples,
 )
-from navlab.search.lattice_reference import astar_reference
+from navlab.search.lattice_reference import astar_reference, first_step_rows_reference, integrate_reference
 from navlab.search.lattice_search import Budget, Goal, Pruners, search, zero_heuristic
 
 ROOM = Room("test", 3.0, 2.0, obstacles=(Disc(1.5, 1.0, 0.25),))
@@ -562,3 +562,24 @@ def test_the_forward_only_car_is_a_params_variant(smoke_params, tmp_path):
         g, ttr=dataclasses.replace(g.ttr, shape=(21, 21, 6, 12)))))
     with pytest.raises(ParamsError, match=r"hj.grids.ttr.shape\[2\] = 6 speed points .* 0 m/s is not a node"):
         forward_only(off)
+
+
+def test_the_compiled_integrator_is_bit_for_bit_the_python_loop():
+    """``integrate`` runs in every re-plan's first step, the closed loop's car and the dense check; compiled, it
+    must give the very floats the plain loop gave (no fused or reordered arithmetic), or every HJ table moves."""
+    gen = np.random.default_rng(7)
+    for _ in range(300):
+        state = np.array([*gen.uniform(-5, 5, 2), gen.uniform(-0.5, 1.0), gen.uniform(-np.pi, np.pi)])
+        a, omega, duration = gen.uniform(-1.5, 1.5), gen.uniform(-2.0, 2.0), gen.uniform(0.05, 1.0)
+        n = int(gen.integers(1, 40))
+        v_range = (-0.5, 1.0) if gen.random() < 0.5 else (0.0, 1.0)
+        assert np.array_equal(integrate(state, a, omega, duration, n, v_range),
+                              integrate_reference(state, a, omega, duration, n, v_range))
+
+
+def test_first_step_rows_are_the_python_loops_on_every_control(smoke_params):
+    spec = lattice_spec(smoke_params)
+    for v in (spec.v_min, 0.0, 0.137, spec.v_max - 0.01):
+        rows, controls = first_step(spec, v)
+        ref = first_step_rows_reference(spec, v, controls)
+        assert np.array_equal(rows[:, :-1], ref[:, :-1]) and np.array_equal(rows[:, -1, [0, 1, 3]], ref[:, -1, [0, 1, 3]])

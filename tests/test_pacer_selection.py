@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 
 import numpy as np
@@ -143,6 +144,26 @@ def test_training_selects_the_epoch_of_best_map_window_score(tmp_path):
     assert (summary["threads"], summary["workers"]) == (cfg.threads, cfg.workers)
     assert np.isfinite(log[:, 3]).all() and ((0 <= log[:, 3]) & (log[:, 3] <= 1)).all()
 
+
+
+def test_a_retrained_folder_is_byte_identical_but_for_its_cost_file(tmp_path):
+    """The phase folder is a DVC output: a timing inside a hashed file made every rebuild a new output (and every
+    stage downstream stale). Two runs of one key write the same bytes; only ``training_cost.json``, which
+    ``.dvcignore`` names, differs, and it holds each epoch's time."""
+    smoke = load_params("smoke").pacer
+    cfg = dataclasses.replace(smoke.train, examples_per_epoch=8, batch_size=4, threads=1, lr=0.05, patience=3)
+    windows = _tiny_windows(4)
+    for run in ("a", "b"):
+        train_phase(smoke.model, cfg, [TinyTerrainSet(16)], [TinyTerrainSet(4, seed=1)], tmp_path / run,
+                    PhaseRun("phase1", epochs=2, seed=0), progress=False, selection=Selection(windows))
+    files = sorted(p.name for p in (tmp_path / "a").iterdir())
+    assert "training_cost.json" in files and "train_seconds" not in (tmp_path / "a" / "summary.json").read_text()
+    for name in files:
+        if name != "training_cost.json":
+            assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    cost = json.loads((tmp_path / "a" / "training_cost.json").read_text())
+    assert sorted(cost["epoch_seconds"]) == ["1", "2"] and cost["train_seconds"] > 0
+    assert "training_cost.json" in (Path(__file__).resolve().parents[1] / ".dvcignore").read_text().split()
 
 def test_the_run_key_includes_the_selection_and_the_thread_count_not_the_workers():
     smoke = load_params("smoke").pacer

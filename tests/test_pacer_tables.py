@@ -214,3 +214,21 @@ def test_the_paper_architecture_variant_is_the_released_design_at_this_size(smok
     assert paths[smoke_params.pacer.seed] == tmp_path / "pacer" / "phase2" / "model.pt"
     other = training_seeds(smoke_params.pacer)[1]
     assert paths[other] == phase_model(tmp_path, SEEDS, "phase2", other)
+
+
+def test_the_scratch_matcher_variant_differs_only_in_the_matchers_features(smoke_params):
+    """Issue 61's from-scratch row: the main recipe, its matcher's towers learnt from the seen photographs instead
+    of EfficientNet-Lite0's frozen ImageNet features; nothing else changes, so the row measures the features."""
+    import dataclasses
+
+    from navlab.pacer.model import build_model
+    from navlab.pacer.pretrained import ImageNetFeatures
+    from navlab.pacer.variants import scratch_matcher
+
+    main, scratch = smoke_params.pacer, scratch_matcher(smoke_params).pacer
+    assert main.model.match_features == "imagenet" and scratch.model.match_features == "scratch"
+    assert dataclasses.replace(scratch.model, match_features="imagenet") == main.model
+    assert (scratch.train, scratch.data) == (main.train, main.data)
+    matcher = build_model(scratch.model, patch_size=scratch.data.patch_size).matcher
+    assert matcher is not None and not isinstance(matcher.features, ImageNetFeatures)
+    assert isinstance(build_model(main.model, patch_size=main.data.patch_size).matcher.features, ImageNetFeatures)

@@ -21,20 +21,35 @@ import platform
 from collections.abc import MutableMapping
 from pathlib import Path
 
-# OpenCV's names of the AVX-512 feature sets its builds dispatch to (cv::getHardwareFeatureName)
-OPENCV_AVX512 = ("AVX512F", "AVX512-SKX", "AVX512-KNL", "AVX512-KNM", "AVX512-CNL", "AVX512-CLX", "AVX512-ICL")
+# OpenCV's AVX-512 feature sets (cv::getHardwareFeatureName) -> the /proc/cpuinfo flags each needs, as OpenCV's
+# own CPU detection combines them (core/src/system.cpp): disabling a set the CPU lacks prints a warning per name
+_COMMON = ("avx512f", "avx512cd")
+_SKX = (*_COMMON, "avx512bw", "avx512dq", "avx512vl")
+OPENCV_AVX512: dict[str, tuple[str, ...]] = {
+    "AVX512F": ("avx512f",),
+    "AVX512-COMMON": _COMMON,
+    "AVX512-SKX": _SKX,
+    "AVX512-KNL": (*_COMMON, "avx512er", "avx512pf"),
+    "AVX512-KNM": (*_COMMON, "avx512er", "avx512pf", "avx512_4fmaps", "avx512_4vnniw", "avx512_vpopcntdq"),
+    "AVX512-CNL": (*_SKX, "avx512ifma", "avx512vbmi"),
+    "AVX512-CLX": (*_SKX, "avx512_vnni"),
+    "AVX512-ICL": (*_SKX, "avx512ifma", "avx512vbmi", "avx512_vnni", "avx512_vbmi2", "avx512_bitalg",
+                   "avx512_vpopcntdq"),
+}
 
 
 def pins(cpu_flags: set[str], machine: str = "x86_64") -> dict[str, str]:
     """The environment that keeps torch, oneDNN, NumPy and OpenCV at the AVX2 level on a CPU with
-    ``cpu_flags`` (/proc/cpuinfo's names). OpenCV warns about disabling a feature the CPU lacks, so it is
-    pinned only on a CPU with AVX-512; none of this applies off x86-64."""
+    ``cpu_flags`` (/proc/cpuinfo's names). OpenCV warns on stderr about disabling a feature set the CPU lacks
+    (an AVX-512 Zen 4 has no Xeon Phi KNL set), which would break every one-line error message, so only the
+    sets this CPU has are named; none of this applies off x86-64."""
     if machine.lower() not in ("x86_64", "amd64"):
         return {}
     env = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2",
            "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"}
-    if "avx512f" in cpu_flags:
-        env["OPENCV_CPU_DISABLE"] = ",".join(OPENCV_AVX512)
+    present = [name for name, needs in OPENCV_AVX512.items() if cpu_flags.issuperset(needs)]
+    if present:
+        env["OPENCV_CPU_DISABLE"] = ",".join(present)
     return env
 
 

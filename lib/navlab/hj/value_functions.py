@@ -41,7 +41,7 @@ FIG3_SPEEDS = 4  # Fig. 3's BRT slices: this many speeds from 0 to v_max
 @dataclass(frozen=True)
 class Fig2:
     """What Fig. 2 draws and its table reports: the four heuristics at ``FIG2_ROBOTS`` and the lookups
-    and field they come from (``viz.hj_figures.fig2_figure`` contours the same ones over the room)."""
+    and field they come from (``viz.hj_figures.draw_fig2`` contours the same ones over the room)."""
     room: Room
     goal: np.ndarray
     ttr: Callable

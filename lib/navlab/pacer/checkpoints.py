@@ -48,9 +48,15 @@ def load_network(path: str | Path, build: Callable[[dict[str, Any]], nn.Module],
 
 def read_summary(folder: str | Path) -> dict[str, Any]:
     """A trained network's ``summary.json`` (phases: best epoch, its validation loss, the entropy floor;
-    classifier: best epoch and held-out accuracy), written beside it by its DVC stage."""
+    classifier: best epoch and held-out accuracy), written beside it by its DVC stage, with the training cost
+    (``train_seconds``, ``peak_rss_mib``, ``threads``, ``workers``) from ``training_cost.json`` where the folder
+    was trained on this machine (that file is no part of the folder's DVC hash, so a checkout has none)."""
     path = Path(folder) / "summary.json"
     if not path.is_file():
         raise DataError(f"{path} is missing; build it with `python -m navlab artifacts build --only "
                         f"pacer_{Path(folder).name}` (or `dvc repro`)")
-    return json.loads(path.read_text())
+    summary = json.loads(path.read_text())
+    cost = Path(folder) / "training_cost.json"
+    if cost.is_file():
+        summary |= {k: v for k, v in json.loads(cost.read_text()).items() if k not in ("key", "epoch_seconds")}
+    return summary

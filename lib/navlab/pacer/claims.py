@@ -473,7 +473,8 @@ def gap_closed(name: str, low: np.ndarray, chance_low: np.ndarray, ceiling_low: 
 def variant_checks(shares: Mapping[str, np.ndarray | None], model: str, variants: Sequence[str],
                    where: str) -> list[Claim]:
     """Ours (issue 61): what our additions buy, ``model`` (every training seed) against each ``variants`` row
-    trained with the same data and budget (the paper's architecture), paired over maps, crossed over seeds."""
+    trained with the same data and budget (the paper's architecture, the from-scratch matcher), paired over maps,
+    crossed over seeds."""
     low = _low(shares, model)
     return [ours(f"{model} (ours) keeps more of its path on the low tier than {v} ({where} maps)",
                  paired_difference(low, _low(shares, v), "higher", _rng("variant_checks", model, v, where), "maps",

@@ -50,7 +50,7 @@ from navlab.pacer.recognition import (
     recognition_note,
     true_terrains_name,
 )
-from navlab.pacer.variants import PAPER_ARCHITECTURE_ROW, training_seeds
+from navlab.pacer.variants import PAPER_ARCHITECTURE_ROW, SCRATCH_MATCHER_ROW, training_seeds
 
 SEEDED_TABLES = ("table1_seen", "table2_unseen", "table3_phases_seen", "table4_phases_unseen")
 
@@ -80,17 +80,21 @@ def _seed_spread(shares: Mapping[str, np.ndarray | None], pacer: PacerParams, mo
                      for m in models if shares.get(m) is not None and np.ndim(shares[m]) == 3)
 
 
+VARIANT_ROWS = (PAPER_ARCHITECTURE_ROW, SCRATCH_MATCHER_ROW)  # what each addition buys (issue 61), one seed each
+
+
 def _seeds_note(pacer: PacerParams, models: Sequence[str], spread: str) -> str:
-    """How the seeded rows and the paper-architecture row were made (issue 61), with ``_seed_spread``."""
+    """How the seeded rows and the variant rows (``VARIANT_ROWS``) were made (issue 61), with ``_seed_spread``."""
     seeds = training_seeds(pacer)
     return (f"{', '.join(models)}: the main recipe trained under {len(seeds)} seeds ({', '.join(map(str, seeds))}; "
             "`pacer.seed`, `pacer.variants.seeds`), each cell the mean over seeds and maps, its interval the crossed "
             "bootstrap of seeds and maps (navlab.metrics.crossed), and every claim on them decided on that "
             f"interval. Low-tier share per seed: {spread}. '{PAPER_ARCHITECTURE_ROW}': the released design (concat-MLP "
             "fusion, Eq. 3 alone, no texture matcher) at this profile's widths, after the same three phases on the "
-            "same data, budget and selection (one seed, stage `pacer_paper_architecture`). Not a row yet: the "
-            "from-scratch texture matcher (its three phases take ~45 min on 2 cores; the tables before issue 61's "
-            "ImageNet features were made with it, benchmarks/README.md). ")
+            "same data, budget and selection (one seed, stage `pacer_paper_architecture`). "
+            f"'{SCRATCH_MATCHER_ROW}': the main recipe with the texture matcher's towers learnt from the seen "
+            "photographs alone instead of EfficientNet-Lite0's frozen ImageNet features (the design before issue 61; "
+            "one seed, stage `pacer_scratch_matcher`), so it measures what the pretrained features buy. ")
 
 
 def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagnosis: str = "") -> Claim:
@@ -143,9 +147,9 @@ def navigation_tables(results: Mapping[str, NavigationResult], classifier: Mappi
                        f"{classifier['val_accuracy']:.3f} on D_real validation patches "
                        f"(epoch {classifier['best_epoch']}).")
     seen = [*seen_claims(results["seen"].shares), _gap(results["seen"].shares, "PACER", "seen", "realistic"),
-            *variant_checks(results["seen"].shares, "PACER", [PAPER_ARCHITECTURE_ROW], "seen")]
+            *variant_checks(results["seen"].shares, "PACER", VARIANT_ROWS, "seen")]
     unseen = [*unseen_claims(results["unseen"].shares), _gap(results["unseen"].shares, "PACER", "unseen", "realistic"),
-              *variant_checks(results["unseen"].shares, "PACER", [PAPER_ARCHITECTURE_ROW], "unseen")]
+              *variant_checks(results["unseen"].shares, "PACER", VARIANT_ROWS, "unseen")]
     seeded = ("PACER", "PACER (uninformative context)")
     notes1 = (setup + classifier_note + " " + _seeds_note(pacer, seeded, _seed_spread(results["seen"].shares, pacer, seeded))
               + _reference_note(pacer))
@@ -274,17 +278,17 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
 
     shares = {env: {pref: results[env, pref].shares for pref in PREFERENCES} for env in ("seen", "unseen")}
     rows = {env: phase_rows({pref: results[env, pref] for pref in PREFERENCES}) for env in ("seen", "unseen")}
-    def against_paper_architecture(env: str) -> list[Claim]:
+    def against_variants(env: str) -> list[Claim]:
         return [c for pref in PREFERENCES
-                for c in variant_checks(shares[env][pref], "D_synthetic", [PAPER_ARCHITECTURE_ROW], f"{env}, {pref}")]
+                for c in variant_checks(shares[env][pref], "D_synthetic", VARIANT_ROWS, f"{env}, {pref}")]
 
     def seeds_note(env: str) -> str:
         spread = " | ".join(f"{pref}: {_seed_spread(shares[env][pref], pacer, PHASE_MODELS)}" for pref in PREFERENCES)
         return _seeds_note(pacer, PHASE_MODELS, spread)
 
-    seen = [*phase_seen_claims(shares["seen"]), *gaps("seen"), *against_paper_architecture("seen")]
+    seen = [*phase_seen_claims(shares["seen"]), *gaps("seen"), *against_variants("seen")]
     unseen = [*phase_unseen_claims(shares["seen"], shares["unseen"]), *gaps("unseen"),
-              *against_paper_architecture("unseen")]
+              *against_variants("unseen")]
     notes5 = (f"The main model's phases (seed {pacer.seed}) alone. {pacer.evaluation.heldout_examples} test items per set, {pacer.evaluation.margin_points} sampled "
               "points each, the same items and points for every model (pairs of equal rank count any cost difference "
               "as error); intervals: bootstrap over items.")

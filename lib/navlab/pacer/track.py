@@ -10,9 +10,10 @@ _TRAIN = ("pacer.seed", "pacer.data", "pacer.model", "pacer.train.examples_per_e
           # the losses beside Eq. 3
           "pacer.train.match_loss_weight", "pacer.train.contrast_loss_weight", "pacer.train.contrast_margin")
 _VARIANT = (*_TRAIN, "pacer.train.epochs")
-# the variant stages' outputs (navlab.pacer.variants): the other seeds' phases, the paper architecture's; the
-# notebooks that read them depend on them
-_VARIANT_OUTS = ("artifacts/pacer/variants/seeds", "artifacts/pacer/variants/paper_architecture")
+# the variant stages' outputs (navlab.pacer.variants): the other seeds' phases, the paper architecture's, the
+# from-scratch matcher's; the notebooks that read them depend on them
+_VARIANT_OUTS = ("artifacts/pacer/variants/seeds", "artifacts/pacer/variants/paper_architecture",
+                 "artifacts/pacer/variants/scratch_matcher")
 _NOTEBOOK = ("pacer",)
 _PHOTOS = "terrain_photos"  # your own photographs (pacer.terrain.OWN_PHOTOS): every stage that reads the bank
 _FIGURES = "reports/pacer/figures/"
@@ -35,7 +36,8 @@ TRACK = Track(
                        ("data", _PHOTOS), ("artifacts/pacer/classifier",)),
         artifact_stage("pacer_seeds", (*_VARIANT, "pacer.variants.seeds"), ("data", _PHOTOS), _VARIANT_OUTS[:1],
                        persist=True),
-        artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS), _VARIANT_OUTS[1:], persist=True),
+        artifact_stage("pacer_paper_architecture", _VARIANT, ("data", _PHOTOS), _VARIANT_OUTS[1:2], persist=True),
+        artifact_stage("pacer_scratch_matcher", _VARIANT, ("data", _PHOTOS), _VARIANT_OUTS[2:], persist=True),
         notebook_stage("pacer_01_costmaps", "notebooks/pacer/01_costmaps.ipynb", _NOTEBOOK,
                        ("data", _PHOTOS, "artifacts/pacer/phase3"), (_FIGURES + "01_costmaps",)),
         notebook_stage("pacer_02_navigation", "notebooks/pacer/02_navigation.ipynb", _NOTEBOOK,

@@ -18,7 +18,9 @@ weights, byte-deterministic), ``val_loss.tsv`` (one row per epoch, for `dvc plot
 plus the matching and contrast losses (``ExtraLosses``); the validation loss, Eq. 3 alone, so that it reads
 against the entropy floor; and the map-window score, NaN when not measured), ``summary.json`` (best epoch,
 its validation loss beside the entropy floor of the validation targets, what it was selected on and its
-score). The checkpoint is keyed on
+score) and ``training_cost.json`` (what the run cost where it ran: wall seconds per epoch, peak memory; named
+in ``.dvcignore``, so it is no part of the folder's DVC hash, and the folder a machine trains is byte for byte
+the one another machine running the same kernels trains). The checkpoint is keyed on
 ``run_key``: the code fingerprint of the training and dataset modules, every parameter that shapes the
 weights (epochs included, so fewer epochs give the shorter model), the inputs and the initial weights;
 only a run of the same key resumes.
@@ -28,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 import resource
 import time
 from collections.abc import Sequence
@@ -145,13 +148,32 @@ def training_code(datasets: Sequence[Dataset]) -> str:
     return code_fingerprint(__name__, *sorted(m for m in modules if m.startswith("navlab.")))
 
 
-def training_cost(rows: Sequence[dict], train_cfg: PacerTrainParams) -> dict:
-    """What the phase cost (issue 24's budget): wall seconds summed over its epochs (a resumed run counts the
-    epochs it resumed, each timed where it ran: training, validation and selection), the peak resident memory
-    of this process and of its item-rendering workers, and the threads and workers it ran with."""
+COST_FILE = "training_cost.json"  # beside summary.json; .dvcignore keeps it out of the folder's hash
+
+
+def training_cost(epoch_seconds: dict[int, float], train_cfg: PacerTrainParams) -> dict:
+    """What the phase cost (issue 24's budget): wall seconds summed over its epochs (``epoch_seconds``: a resumed
+    run counts the epochs it resumed, each timed where it ran: training, validation and selection), the peak
+    resident memory of this process and of its item-rendering workers, and the threads and workers it ran with.
+    Kept out of ``summary.json`` and the checkpoint: a timing in a hashed file makes every rebuild a new output."""
     peak_kib = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
-    return {"train_seconds": round(sum(r.get("seconds", 0.0) for r in rows), 1), "peak_rss_mib": round(peak_kib / 1024),
+    return {"train_seconds": round(sum(epoch_seconds.values()), 1), "peak_rss_mib": round(peak_kib / 1024),
             "threads": train_cfg.threads, "workers": train_cfg.workers}
+
+
+def _epoch_seconds(out_dir: Path, key: str) -> dict[int, float]:
+    """The epoch times an interrupted run of the same ``key`` recorded in ``out_dir`` (none for another run)."""
+    path = out_dir / COST_FILE
+    try:
+        saved = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+    return {int(e): float(s) for e, s in saved.get("epoch_seconds", {}).items()} if saved.get("key") == key else {}
+
+
+def _write_cost(out_dir: Path, key: str, epoch_seconds: dict[int, float], train_cfg: PacerTrainParams) -> None:
+    write_json(out_dir / COST_FILE, {"key": key, **training_cost(epoch_seconds, train_cfg),
+                                     "epoch_seconds": {str(e): round(s, 2) for e, s in sorted(epoch_seconds.items())}})
 
 
 def _write_log(rows: list[dict], path: Path) -> None:
@@ -308,6 +330,7 @@ def train_phase(
     schedule = cosine_schedule(optimiser, epochs * steps_per_epoch, train_cfg.lr_final_fraction)
 
     extra = ExtraLosses.of(train_cfg)
+    epoch_seconds = _epoch_seconds(out_dir, key)
 
     def train_epoch(epoch: int) -> dict[str, float]:
         started = time.perf_counter()
@@ -325,13 +348,17 @@ def train_phase(
         val = validation_loss(model, val_items, train_cfg.batch_size, device)
         score = (selection_score(model, select_windows, cost_scale, batch=train_cfg.batch_size, device=device)
                  if select else float("nan"))
-        return {"train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score,
-                "seconds": time.perf_counter() - started}
+        epoch_seconds[epoch + 1] = time.perf_counter() - started  # the log's epochs count from 1
+        return {"train_loss": float(np.mean(losses)), "val_loss": val, "select_score": score}
+
+    def on_epoch(rows: list[dict]) -> None:
+        _write_log(rows, out_dir / "val_loss.tsv")
+        _write_cost(out_dir, key, epoch_seconds, train_cfg)
 
     fitted = fit(model, optimiser, TrainingRun(out_dir / "checkpoint.pt", key, epochs, train_cfg.patience,
                                                f"PACER {phase}", progress),
                  train_epoch, lambda row, best: improves(train_cfg.select_on, row, best), scheduler=schedule,
-                 device=device, on_epoch=lambda rows: _write_log(rows, out_dir / "val_loss.tsv"))
+                 device=device, on_epoch=on_epoch)
     rows, best = fitted.log, fitted.best
     _write_log(rows, out_dir / "val_loss.tsv")
     write_json(out_dir / "summary.json", {
@@ -340,8 +367,8 @@ def train_phase(
         "select_on": train_cfg.select_on,
         "best_select_score": best["select_score"] if select and best is not None else None,
         "entropy_floor": entropy_floor(val_items), "steps": len(rows) * steps_per_epoch,
-        **training_cost(rows, train_cfg),
     })
+    _write_cost(out_dir, key, {e: s for e, s in epoch_seconds.items() if e <= len(rows)}, train_cfg)
     model_path = out_dir / "model.pt"
     save_torch(model_path, {"model_config": dataclasses.asdict(model_cfg), "context_pairs": context_pairs,
                             "patch_size": run.patch_size,

@@ -11,6 +11,9 @@ without the released design trained beside them on the same data and budget.
 * ``paper_architecture``: the released design at this profile's size: concat-MLP fusion, Eq. 3 alone (no
   matching or contrast loss), no texture matcher; everything else (the image U-Net's and the context encoder's
   widths, the data, epochs and selection) as the main model's, so the row measures the design, not the budget.
+* ``scratch_matcher``: the main recipe with the texture matcher's towers trained from scratch on the seen
+  photographs (``pacer.model.match_features: scratch``, the design before issue 61) instead of EfficientNet-Lite0's
+  frozen ImageNet features, so the row measures what the pretrained features buy.
 
 Each variant's folder is an artefacts tree of its own (``<variant root>/pacer/phase1`` ... ``phase3``), laid
 out as ``artifacts/`` is, so the main model's loaders read it with the same paths.
@@ -29,8 +32,9 @@ from navlab.pacer.artifacts import phase_step
 from navlab.pacer.train import PHASES
 
 FOLDER = ("pacer", "variants")  # under artifacts/
-SEEDS, PAPER_ARCHITECTURE = "seeds", "paper_architecture"
+SEEDS, PAPER_ARCHITECTURE, SCRATCH_MATCHER = "seeds", "paper_architecture", "scratch_matcher"
 PAPER_ARCHITECTURE_ROW = "PACER, paper architecture (concat-MLP, Eq. 3 alone, no matcher)"  # its tables' row
+SCRATCH_MATCHER_ROW = "PACER, matcher trained from scratch (no ImageNet features)"
 
 
 def variant_root(artifacts_dir: str | Path, variant: str, seed: int | None = None) -> Path:
@@ -67,6 +71,13 @@ def paper_architecture(params: Params) -> Params:
     return dataclasses.replace(params, pacer=dataclasses.replace(p, model=model, train=train))
 
 
+def scratch_matcher(params: Params) -> Params:
+    """The main recipe with the matcher's towers learnt from the seen photographs alone (module docstring)."""
+    p = params.pacer
+    return dataclasses.replace(params, pacer=dataclasses.replace(
+        p, model=dataclasses.replace(p.model, match_features="scratch")))
+
+
 def train_three_phases(params: Params, data_dir: Path, root: Path) -> None:
     """Phases 1-3 into the artefacts tree ``root``, each resuming its own checkpoint (a killed stage resumes)."""
     for phase in PHASES:
@@ -88,4 +99,5 @@ def build_seeds(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
 def artifact_steps() -> list:
     """The main model's and baselines' steps (``pacer.artifacts``), then the variants'."""
     return [*main_steps(), (f"pacer_{SEEDS}", build_seeds),
-            (f"pacer_{PAPER_ARCHITECTURE}", _variant(paper_architecture, PAPER_ARCHITECTURE))]
+            (f"pacer_{PAPER_ARCHITECTURE}", _variant(paper_architecture, PAPER_ARCHITECTURE)),
+            (f"pacer_{SCRATCH_MATCHER}", _variant(scratch_matcher, SCRATCH_MATCHER))]

@@ -18,7 +18,7 @@ state is moved to its cell's centre after its segment was checked as driven: the
 graph, which is what an independent Dijkstra can check the search against (its plans jump by up to half
 a cell and half a heading bin at every node, so they are not trajectories the car can drive).
 
-``integrate`` (plain numpy, any number of micro-steps) is the reference integrator; ``densify`` replays a
+``integrate`` (compiled, any number of micro-steps) is the reference integrator; ``densify`` replays a
 plan's controls with it for the paper's feasibility check, through the very points the table was
 integrated on (``samples_per_step × micro_steps`` per step), which the search's swept collision check
 (``lattice_fields.swept_unsafe``) provably covers.
@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 
 @dataclass(frozen=True)
@@ -105,26 +106,57 @@ class LatticeSpec:
         return round(k) + self.zero_level
 
 
+@njit(cache=True)
+def _integrate_into(out: np.ndarray, state: np.ndarray, a: float, omega: float, h: float, v_min: float,
+                    v_max: float) -> None:
+    """``integrate``'s loop, compiled: ``out`` (n, 4) filled with the states after each sub-step of length h.
+    The same operations in the same order as the plain-Python loop it replaced (no fast-math, so no fused or
+    reordered arithmetic; math.cos/sin are libm's), so the states are bit for bit those
+    (tests/test_dubins_lattice.py checks it against that loop)."""
+    x, y, v, th = state[0], state[1], state[2], state[3]
+    for i in range(out.shape[0]):
+        v1 = min(max(v + a * h, v_min), v_max)
+        th1 = th + omega * h
+        vm = 0.5 * (v + v1)
+        tm = th + 0.5 * omega * h
+        x += h * vm * math.cos(tm)
+        y += h * vm * math.sin(tm)
+        v = v1
+        th = th1
+        out[i, 0] = x
+        out[i, 1] = y
+        out[i, 2] = v
+        out[i, 3] = th
+
+
+@njit(cache=True)
+def _primitive_rows(v: float, controls: np.ndarray, h: float, samples: int, micro: int, v_min: float,
+                    v_max: float) -> np.ndarray:
+    """(P, samples, 4): each control of ``controls`` (P, 2) held from (0, 0, v, 0) for samples × micro sub-steps
+    of length h, every ``micro``-th state kept (``integrate`` per control, in one compiled loop)."""
+    rows = np.empty((controls.shape[0], samples, 4))
+    dense = np.empty((samples * micro, 4))
+    start = np.array([0.0, 0.0, v, 0.0])
+    for p in range(controls.shape[0]):
+        _integrate_into(dense, start, controls[p, 0], controls[p, 1], h, v_min, v_max)
+        for k in range(samples):
+            rows[p, k] = dense[(k + 1) * micro - 1]
+    return rows
+
+
 def integrate(state: np.ndarray, a: float, omega: float, duration: float, n: int,
               v_range: tuple[float, float]) -> np.ndarray:
     """States after each of ``n`` equal sub-steps of holding (a, ω) from ``state`` (x, y, v, θ): (n, 4).
 
     v moves linearly and is clipped to ``v_range`` (v_min, v_max), θ moves linearly; the position uses
     the midpoint of each sub-step (second order), the same rule the table is built with (at v < 0 the car
-    moves backwards along its heading).
+    moves backwards along its heading). Compiled (``_integrate_into``): every re-plan's first step, the
+    closed loop's car and the dense feasibility check run it.
     """
-    x, y, v, th = (float(s) for s in state)
-    v_min, v_max = v_range
-    h = duration / n
     out = np.empty((n, 4))
-    for i in range(n):
-        v1 = min(max(v + a * h, v_min), v_max)
-        th1 = th + omega * h
-        vm, tm = 0.5 * (v + v1), th + 0.5 * omega * h
-        x += h * vm * math.cos(tm)
-        y += h * vm * math.sin(tm)
-        v, th = v1, th1
-        out[i] = (x, y, v, th)
+    v_min, v_max = v_range
+    _integrate_into(out, np.asarray(state, dtype=np.float64)[:4].copy(), float(a), float(omega), duration / n,
+                    float(v_min), float(v_max))
     return out
 
 
@@ -151,9 +183,7 @@ def first_step(spec: LatticeSpec, v: float) -> tuple[np.ndarray, np.ndarray]:
     s, m = spec.samples_per_step, spec.micro_steps
     controls = spec.controls.copy()
     controls[:, 0] += (level - v) / spec.dt
-    rows = np.empty((len(controls), s, 4))
-    for p, (a, w) in enumerate(controls):
-        rows[p] = integrate(np.array([0.0, 0.0, v, 0.0]), a, w, spec.dt, s * m, spec.v_range)[m - 1::m]
+    rows = _primitive_rows(float(v), controls, spec.dt / (s * m), s, m, *map(float, spec.v_range))
     rows[:, -1, 2] = np.round(rows[:, -1, 2] / spec.dv) * spec.dv  # end speeds exactly on a level
     return rows, controls
 

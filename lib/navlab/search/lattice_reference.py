@@ -1,5 +1,6 @@
 """Plain-Python A* on the Dubins lattice (heapq + dict), the reference the compiled search is checked and
-timed against.
+timed against; and the plain-Python integrator and first step the compiled ``dubins_lattice.integrate`` and
+``first_step`` replaced (bit for bit the same floats, tests/test_hj_planner.py; timed in benchmarks/hj_planner.py).
 
 Same lattice, same duplicate detection (one node per snapped cell, replaced and reopened when its g
 improves), same goal test and step cost as ``lattice_search``; the heuristic and the pruner are any
@@ -73,3 +74,28 @@ def astar_reference(spec: LatticeSpec, bounds, start, goal_xy, tolerance: float,
                 g[nc], state[nc] = ng, ends[i].copy()
                 heapq.heappush(heap, (ng + float(h), -ng, nc))
     return math.inf, expansions
+
+
+def integrate_reference(state, a: float, omega: float, duration: float, n: int,
+                        v_range: tuple[float, float]) -> np.ndarray:
+    """``dubins_lattice.integrate`` as the plain-Python loop it was: (n, 4) states after each sub-step."""
+    x, y, v, th = (float(s) for s in state)
+    h = duration / n
+    out = np.empty((n, 4))
+    for i in range(n):
+        v1 = min(max(v + a * h, v_range[0]), v_range[1])
+        th1 = th + omega * h
+        vm, tm = 0.5 * (v + v1), th + 0.5 * omega * h
+        x += h * vm * math.cos(tm)
+        y += h * vm * math.sin(tm)
+        v, th = v1, th1
+        out[i] = (x, y, v, th)
+    return out
+
+
+def first_step_rows_reference(spec: LatticeSpec, v: float, controls: np.ndarray) -> np.ndarray:
+    """``dubins_lattice.first_step``'s rows (P, S, 4) for ``controls`` from speed ``v``, one Python call per
+    control (before the end speeds are put on their levels)."""
+    s, m = spec.samples_per_step, spec.micro_steps
+    return np.stack([integrate_reference(np.array([0.0, 0.0, v, 0.0]), a, w, spec.dt, s * m, spec.v_range)[m - 1::m]
+                     for a, w in controls])

@@ -4,11 +4,13 @@
 server for the scene. Here the visualizer is given an ``OfflineWindow`` instead: it records the same
 msgpack-encoded commands the server would have kept (the latest one per path and kind) and renders them
 into the same page the server builds (meshcat's bundled ``main.min.js`` inlined, one ``fetch(data:…)``
-per command). So ``vis.static_html()`` works offline and the file opens in any browser.
+per command). So ``vis.static_html()`` works offline and the file opens in any browser; its objects' uuids
+are derived from their paths, so a committed scene changes only when the scene does.
 """
 
 from __future__ import annotations
 
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -42,7 +44,7 @@ class OfflineWindow:
         self.commands: dict[tuple[str, str, str], bytes] = {}
 
     def send(self, command) -> None:
-        data = command.lower()
+        data = _named(command.lower())
         key = (data["type"], data["path"], str(data.get("property", "")))
         if data["type"] == "delete":
             self.commands = {k: v for k, v in self.commands.items() if not k[1].startswith(data["path"])}
@@ -54,6 +56,32 @@ class OfflineWindow:
         mainminjs = (Path(VIEWER_ROOT) / "main.min.js").read_text()
         commands = "".join(create_command(c) for c in self.commands.values())
         return _PAGE.format(title=self.title, mainminjs=mainminjs, commands=commands)
+
+
+def _named(data: dict) -> dict:
+    """``data`` with meshcat's uuids (``uuid.uuid1``: the clock and the host) replaced by ones derived from the
+    command's path and each uuid's place in it, so one scene writes the same bytes on every run and machine."""
+    found: dict[str, str] = {}
+
+    def collect(node) -> None:
+        if isinstance(node, dict):
+            if isinstance(node.get("uuid"), str) and node["uuid"] not in found:
+                found[node["uuid"]] = str(uuid.uuid5(uuid.NAMESPACE_URL, f"{data.get('path', '')}#{len(found)}"))
+            for value in node.values():
+                collect(value)
+        elif isinstance(node, list):
+            for value in node:
+                collect(value)
+
+    def rename(node):
+        if isinstance(node, dict):
+            return {k: rename(v) for k, v in node.items()}
+        if isinstance(node, list):
+            return [rename(v) for v in node]
+        return found.get(node, node) if isinstance(node, str) else node
+
+    collect(data)
+    return rename(data) if found else data
 
 
 def offline_visualizer(title: str = "navlab") -> Visualizer:
