@@ -71,7 +71,6 @@ _PACER_RETRAIN = ("PACER's trained phases, seeds, paper architecture and baselin
 KNOWN_STALE: dict[str, str] = {
     "pacer_scratch_matcher": "new: the from-scratch matcher variant row (issue 61); never run to completion. "
                              + _PACER_RETRAIN,
-    "pacer_01_costmaps": "thin notebook over pacer.runs. " + _PACER_RETRAIN,
     "pacer_02_navigation": "thin notebook over pacer.runs; the from-scratch matcher row. " + _PACER_RETRAIN,
     "pacer_03_phase_ablation": "thin notebook over pacer.runs. " + _PACER_RETRAIN,
     "stack_01_ablation": "search.dubins_lattice's compiled first step (bit-identical to the plain-Python loop, "

@@ -1,11 +1,13 @@
 """One CPU code path for every machine: the numerical libraries' kernels pinned to the AVX2 level.
 
-Why: torch (ATen's vector kernels, oneDNN's convolutions), OpenCV and NumPy each choose their kernels by the
-CPU's instruction sets when they load, and kernels of another vector width round differently. On one machine,
-capping oneDNN at AVX instead of AVX2 gives other PACER weights after four training steps, OpenCV without its
-AVX2 paths renders other training items, and ATen's generic kernels draw other ``torch.randn`` numbers
-(``benchmarks/pacer_reproducibility.py``). So an artefact trained on an AVX-512 machine cannot be rebuilt bit
-for bit on an AVX2 one, and every stage downstream of it must re-run whenever it is rebuilt.
+Why: torch (ATen's vector kernels, oneDNN's convolutions), OpenCV, NumPy and OpenBLAS each choose their kernels
+by the CPU's instruction sets when they load, and kernels of another vector width round differently. On one
+machine, capping oneDNN at AVX instead of AVX2 gives other PACER weights after four training steps, OpenCV without
+its AVX2 paths renders other training items, and ATen's generic kernels draw other ``torch.randn`` numbers
+(``benchmarks/pacer_reproducibility.py``); NumPy's and SciPy's OpenBLAS runs its SkylakeX kernels on an AVX-512
+CPU and its Haswell ones on an AVX2 Zen, and that alone gave PACER's phase 3 (D_synthetic's items) other weights
+on a Zen 4 than on a Zen 1 (benchmarks/README.md). So an artefact trained on an AVX-512 machine cannot be rebuilt
+bit for bit on an AVX2 one, and every stage downstream of it must re-run whenever it is rebuilt.
 
 ``python -m navlab`` (every DVC stage, notebook run and JupyterLab kernel it starts) therefore caps each library
 at AVX2, the level of the x86-64 machines this pipeline runs on, before any of them loads. On an AVX2 machine
@@ -46,7 +48,7 @@ def pins(cpu_flags: set[str], machine: str = "x86_64") -> dict[str, str]:
     if machine.lower() not in ("x86_64", "amd64"):
         return {}
     env = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2",
-           "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"}
+           "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR", "OPENBLAS_CORETYPE": "Haswell"}
     present = [name for name, needs in OPENCV_AVX512.items() if cpu_flags.issuperset(needs)]
     if present:
         env["OPENCV_CPU_DISABLE"] = ",".join(present)
