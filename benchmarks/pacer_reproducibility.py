@@ -10,12 +10,15 @@ child processes that differ in one setting each, and prints the sha256 of the we
 - ATen's generic kernels instead of its AVX2 ones (``ATEN_CPU_CAPABILITY``), oneDNN (the convolutions'
   library) capped at a lower instruction set (``ONEDNN_MAX_CPU_ISA``), and MKL
   (the matrix products') pinned to one code path (``MKL_CBWR``): what differs between two CPUs that is not
-  the code, emulated on one machine; the item renderer's OpenCV and NumPy without their AVX2 paths; and the
+  the code, emulated on one machine; the item renderer's OpenCV and NumPy without their AVX2 paths;
+  NumPy's OpenBLAS on its generic kernels (``OPENBLAS_CORETYPE``: it picks SkylakeX ones on an AVX-512 CPU,
+  Haswell ones on an AVX2 Zen; ``--dataset synthetic`` trains on the items it touches); and the
   pins ``python -m navlab`` sets (``navlab.core.cpu``), which must leave an AVX2 machine's weights as they are.
 
 A setting whose hash differs from the first run changes the trained weights. Needs ``data/`` (``python -m
 navlab data build``).
-Usage: python benchmarks/pacer_reproducibility.py [--steps 6] [--profile default] [--variants NAME ...]
+Usage: python benchmarks/pacer_reproducibility.py [--steps 6] [--profile default] [--dataset real]
+       [--variants NAME ...]
 """
 
 from __future__ import annotations
@@ -42,12 +45,16 @@ VARIANTS = {  # name -> (environment, torch threads or None for the profile's)
     "MKL pinned to its SSE4.2 path": ({"MKL_CBWR": "SSE4_2"}, None),
     "OpenCV without AVX / AVX2 / FMA3": ({"OPENCV_CPU_DISABLE": "AVX,AVX2,FMA3"}, None),
     "NumPy without AVX2 / FMA3": ({"NPY_DISABLE_CPU_FEATURES": "AVX2 FMA3"}, None),
+    "OpenBLAS on its generic kernels": ({"OPENBLAS_CORETYPE": "Prescott"}, None),
     "navlab's pins (python -m navlab)": (pins(cpu_flags(), platform.machine()), None),
+    "the pins, OpenBLAS's own kernels": ({name: value for name, value in pins(cpu_flags(), platform.machine()).items()
+                                          if name != "OPENBLAS_CORETYPE"}, None),
 }
 
 
-def train_steps(profile: str, data_dir: str, steps: int, threads: int | None) -> dict:
-    """``steps`` Adam steps of the profile's model from torch seed 0 on D_real's first training items;
+def train_steps(profile: str, data_dir: str, steps: int, threads: int | None, dataset: str = "real") -> dict:
+    """``steps`` Adam steps of the profile's model from torch seed 0 on the first training items of
+    ``dataset`` (real, shuffled or synthetic: D_synthetic's recolouring multiplies through OpenBLAS);
     the sha256 of the resulting weights and the losses."""
     import torch
 
@@ -61,14 +68,14 @@ def train_steps(profile: str, data_dir: str, steps: int, threads: int | None) ->
     P = params.pacer
     torch.set_num_threads(threads or P.train.threads)
     bank = load_terrain_bank(data_dir, P.data)
-    dataset = pacer_dataset(params, data_dir, "real", "train", bank)
+    items = pacer_dataset(params, data_dir, dataset, "train", bank)
     torch.manual_seed(0)
     model = build_model(P.model, context_pairs=P.data.n_pairs, patch_size=P.data.patch_size)
     model = model.to(memory_format=torch.channels_last).train()
     optimiser = torch.optim.Adam(model.parameters(), lr=P.train.lr)  # as pacer.train.train_phase
     size, losses = P.train.batch_size, []
     for step in range(steps):
-        loss = batch_loss(model, collate([dataset[i] for i in range(step * size, (step + 1) * size)]), "cpu",
+        loss = batch_loss(model, collate([items[i] for i in range(step * size, (step + 1) * size)]), "cpu",
                           ExtraLosses.of(P.train))
         optimiser.zero_grad()
         loss.backward()
@@ -86,19 +93,21 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=6)
     parser.add_argument("--profile", default="default")
     parser.add_argument("--data", default="data")
+    parser.add_argument("--dataset", choices=("real", "shuffled", "synthetic"), default="real",
+                        help="the training items (synthetic: the only ones OpenBLAS's kernels touch)")
     parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS),
                         help="the settings to train under (default: all; the first is the reference)")
     parser.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)  # threads, in a child run
     args = parser.parse_args()
     if args.child is not None:
-        print(json.dumps(train_steps(args.profile, args.data, args.steps, args.child or None)))
+        print(json.dumps(train_steps(args.profile, args.data, args.steps, args.child or None, args.dataset)))
         return
     first = None
     for name in args.variants:
         env, threads = VARIANTS[name]
         tic = time.perf_counter()
         out = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--profile", args.profile,
-                              "--data", args.data, "--child", str(threads or 0)],
+                              "--data", args.data, "--dataset", args.dataset, "--child", str(threads or 0)],
                              env={**os.environ, **env}, capture_output=True, text=True, check=True)
         found = json.loads(out.stdout.strip().splitlines()[-1])
         first = first or found

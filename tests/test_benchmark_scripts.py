@@ -57,7 +57,8 @@ RUNS = {
                            "--out", "{out}/context.json"],
     "surenav_workers.py": ["--profile", "smoke", "--every", "30", "--data", "{data}", "--artifacts", "{artifacts}"],
     "surenav_estimator_fit.py": ["train", "--epochs", "1", "--profile", "smoke", "--artifacts", "{artifacts}"],
-    "pacer_reproducibility.py": ["--profile", "smoke", "--steps", "1", "--data", "{data}", "--variants",
+    "pacer_reproducibility.py": ["--profile", "smoke", "--steps", "1", "--data", "{data}", "--dataset", "synthetic",
+                                 "--variants",
                                  "profile's settings", "navlab's pins (python -m navlab)"],
     "hj_paper_scaling.py": ["--scales", "0.03", "0.04", "--steps", "1", "--kinds", "static_brt", "--eager"],
 }
