@@ -177,6 +177,6 @@ def test_every_stage_that_reads_the_bank_depends_on_the_photographs_folder():
     stages = all_stages()
     reads = ("pacer_", "stack_")  # the stack paints its aerial images with the bank's photographs
     readers = [s for s in stages if s.name.startswith(reads)]
-    assert len(readers) == 11  # the phases, both baselines, two variant stages, three notebooks, the stack
+    assert len(readers) == 12  # the phases, both baselines, three variant stages, three notebooks, the stack
     assert all(OWN_PHOTOS in s.inputs for s in readers)
     assert all(OWN_PHOTOS not in s.inputs for s in stages if not s.name.startswith(reads))
