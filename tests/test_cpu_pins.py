@@ -39,6 +39,7 @@ def test_the_pins_cap_each_library_at_avx2_only_on_x86():
     avx2 = pins({"avx2", "fma"})
     assert avx2["ATEN_CPU_CAPABILITY"] == "avx2" and avx2["ONEDNN_MAX_CPU_ISA"] == "AVX2"
     assert avx2["OPENBLAS_CORETYPE"] == "Haswell"
+    assert "OPENBLAS_CORETYPE" not in pins({"sse2", "avx"})  # a forced Haswell kernel would not run there
     assert "OPENCV_CPU_DISABLE" not in avx2  # OpenCV warns about disabling what the CPU lacks
     assert pins({"avx2", "avx512f"})["OPENCV_CPU_DISABLE"] == "AVX512F"
     skx = {"avx2", *OPENCV_AVX512["AVX512-SKX"]}

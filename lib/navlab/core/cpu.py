@@ -41,14 +41,18 @@ OPENCV_AVX512: dict[str, tuple[str, ...]] = {
 
 
 def pins(cpu_flags: set[str], machine: str = "x86_64") -> dict[str, str]:
-    """The environment that keeps torch, oneDNN, NumPy and OpenCV at the AVX2 level on a CPU with
-    ``cpu_flags`` (/proc/cpuinfo's names). OpenCV warns on stderr about disabling a feature set the CPU lacks
-    (an AVX-512 Zen 4 has no Xeon Phi KNL set), which would break every one-line error message, so only the
-    sets this CPU has are named; none of this applies off x86-64."""
+    """The environment that keeps torch, oneDNN, NumPy, OpenBLAS and OpenCV at the AVX2 level on a CPU with
+    ``cpu_flags`` (/proc/cpuinfo's names). The other pins are caps, but OpenBLAS's is a choice that would run
+    AVX2 kernels on a CPU without AVX2, so it is set only where the CPU has AVX2 and FMA. OpenCV warns on
+    stderr about disabling a feature set the CPU lacks (an AVX-512 Zen 4 has no Xeon Phi KNL set), which would
+    break every one-line error message, so only the sets this CPU has are named; none of this applies off
+    x86-64."""
     if machine.lower() not in ("x86_64", "amd64"):
         return {}
     env = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2",
-           "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR", "OPENBLAS_CORETYPE": "Haswell"}
+           "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"}
+    if cpu_flags.issuperset(("avx2", "fma")):
+        env["OPENBLAS_CORETYPE"] = "Haswell"
     present = [name for name, needs in OPENCV_AVX512.items() if cpu_flags.issuperset(needs)]
     if present:
         env["OPENCV_CPU_DISABLE"] = ",".join(present)
