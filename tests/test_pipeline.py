@@ -65,18 +65,7 @@ def test_data_stage_builds_the_snapshot():
 
 # Stages whose committed report is known to come from older code, each with the reason; the test below
 # fails when any other stage is stale, and when one of these becomes current (then delete its line).
-_PACER_RETRAIN = ("PACER's trained phases, seeds, paper architecture and baselines are locked from runs of this "
-                  "code (2026-12-04) but not cached: re-running this stage retrains them first (~2.5 h on 2 cores "
-                  "with the from-scratch matcher), which did not fit the session that landed the code")
-KNOWN_STALE: dict[str, str] = {
-    "pacer_scratch_matcher": "new: the from-scratch matcher variant row (issue 61); never run to completion. "
-                             + _PACER_RETRAIN,
-    "pacer_02_navigation": "thin notebook over pacer.runs; the from-scratch matcher row. " + _PACER_RETRAIN,
-    "pacer_03_phase_ablation": "thin notebook over pacer.runs. " + _PACER_RETRAIN,
-    "stack_01_ablation": "search.dubins_lattice's compiled first step (bit-identical to the plain-Python loop, "
-                         "tests/test_hj_planner.py) and PACER's checkpoint code; re-running needs PACER's phase 3 "
-                         "and SuReNav's context estimators rebuilt. " + _PACER_RETRAIN,
-}
+KNOWN_STALE: dict[str, str] = {}
 
 
 @pytest.mark.provenance
