@@ -112,7 +112,7 @@ def _integrate_into(out: np.ndarray, state: np.ndarray, a: float, omega: float, 
     """``integrate``'s loop, compiled: ``out`` (n, 4) filled with the states after each sub-step of length h.
     The same operations in the same order as the plain-Python loop it replaced (no fast-math, so no fused or
     reordered arithmetic; math.cos/sin are libm's), so the states are bit for bit those
-    (tests/test_dubins_lattice.py checks it against that loop)."""
+    (tests/test_hj_planner.py checks it against that loop)."""
     x, y, v, th = state[0], state[1], state[2], state[3]
     for i in range(out.shape[0]):
         v1 = min(max(v + a * h, v_min), v_max)

@@ -358,6 +358,17 @@ def swept_unsafe(fv, fmin, m, par, q0, parent, step, samples, i, n):
     return -1
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _human_value_cs(fv, m, par, x, y, v, c, s, hx, hy):
+    """``human_value`` with the cosine and sine of the robot's heading given: a segment's sample is
+    checked against every human, and the trigonometry is the same for all of them."""
+    rx, ry = hx - x, hy - y
+    px, py = c * rx + s * ry, -s * rx + c * ry
+    if _outside_xy(m, px, py):
+        return math.sqrt(px * px + py * py) - par[0] - par[1]
+    return interp3(fv, m, px, py, v)
+
+
 @numba.njit(cache=True, error_model="numpy")
 def human_value(fv, m, par, x, y, v, th, hx, hy):
     """Human-robot BRT value for a robot state and a human position (reach.lookup.HumanBRTLookup).
@@ -365,12 +376,7 @@ def human_value(fv, m, par, x, y, v, th, hx, hy):
     par: [collision_radius, closing_distance (speed sum × horizon), m, Δt, γ_min, γ_max, k_θ, w_θ, w_d, d_th,
     prediction horizon (human_prunes)].
     """
-    c, s = math.cos(th), math.sin(th)
-    rx, ry = hx - x, hy - y
-    px, py = c * rx + s * ry, -s * rx + c * ry
-    if _outside_xy(m, px, py):
-        return math.sqrt(px * px + py * py) - par[0] - par[1]
-    return interp3(fv, m, px, py, v)
+    return _human_value_cs(fv, m, par, x, y, v, math.cos(th), math.sin(th), hx, hy)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -386,32 +392,52 @@ def adaptive_gamma(par, x, y, th, hx, hy):
     return par[5] - (par[5] - par[4]) * risk
 
 
-@numba.njit(cache=True, error_model="numpy")
-def human_prunes(kind, fv, m, par, humans, parent, t0, duration, samples, n):
-    """True when any of the ``n`` segment samples (last = the successor) from the ``parent`` state
-    (x0, y0, v0, θ0) violates a human pruner.
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def human_values_at(fv, m, par, humans, x, y, v, th, t0, out):
+    """``out[h]``: the human BRT value of the state (x, y, v, θ), ``t0`` s after the observation, against
+    human h where it walks by then (held after ``par[10]`` s). The FI rule's V at a parent, which is the
+    same for all its successors: the search computes it once per expansion."""
+    t = min(t0, par[10])
+    c, s = math.cos(th), math.sin(th)
+    for h in range(humans.shape[0]):
+        out[h] = _human_value_cs(fv, m, par, x, y, v, c, s, humans[h, 0] + humans[h, 2] * t,
+                                 humans[h, 1] + humans[h, 3] * t)
+    return out
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def human_prunes(kind, fv, m, par, humans, parent_values, t0, duration, samples, n):
+    """True when any of the ``n`` segment samples (last = the successor) of a parent violates a human pruner.
 
     humans: (H, 4) observed x, y, vx, vy. The parent is ``t0`` s after the observation and sample i at
     t0 + (i + 1)·duration/n; each is checked against the human where it walks by then at its observed
-    velocity, the prediction held after ``par[10]`` s (0: the humans frozen where they were seen)."""
+    velocity, the prediction held after ``par[10]`` s (0: the humans frozen where they were seen).
+    ``parent_values``: the parent's values against each human (``human_values_at``), which the FI rule
+    (Eq. 15) compares with the successor's. The answer is an OR of independent tests, so they are taken
+    sample by sample (each sample's trigonometry once for all humans), then the FI rule per human."""
     margin, dt, horizon = par[2], par[3], par[10]
-    x0, y0, v0, th0 = parent[0], parent[1], parent[2], parent[3]
-    for h in range(humans.shape[0]):
-        for i in range(n):
-            t = min(t0 + (i + 1) * duration / n, horizon)
+    c, s = 1.0, 0.0
+    for i in range(n):
+        x, y, v, th = samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3]
+        c, s = math.cos(th), math.sin(th)
+        t = min(t0 + (i + 1) * duration / n, horizon)
+        for h in range(humans.shape[0]):
             hx, hy = humans[h, 0] + humans[h, 2] * t, humans[h, 1] + humans[h, 3] * t
-            if human_value(fv, m, par, samples[i, 0], samples[i, 1], samples[i, 2], samples[i, 3], hx, hy) < margin:
+            if _human_value_cs(fv, m, par, x, y, v, c, s, hx, hy) < margin:
                 return True
-        if kind == U_FI:
-            x, y, v, th = samples[n - 1, 0], samples[n - 1, 1], samples[n - 1, 2], samples[n - 1, 3]
-            t = min(t0 + duration, horizon)
+    if kind == U_FI:
+        x, y, v, th = samples[n - 1, 0], samples[n - 1, 1], samples[n - 1, 2], samples[n - 1, 3]
+        t = min(t0 + duration, horizon)
+        # γ >= 0 for every risk in [0, 1] (rounding included) when 0 <= γ_min <= γ_max; then a step that does
+        # not lower V from above the margin satisfies Eq. 15 whatever γ is, and γ's atan2 and exp are skipped
+        gamma_free = dt > 0.0 and par[4] >= 0.0 and par[5] >= par[4]
+        for h in range(humans.shape[0]):
             hx, hy = humans[h, 0] + humans[h, 2] * t, humans[h, 1] + humans[h, 3] * t
-            val1 = human_value(fv, m, par, x, y, v, th, hx, hy)
-            t = min(t0, horizon)
-            val0 = human_value(fv, m, par, x0, y0, v0, th0, humans[h, 0] + humans[h, 2] * t,
-                               humans[h, 1] + humans[h, 3] * t)
+            val1 = _human_value_cs(fv, m, par, x, y, v, c, s, hx, hy)  # c, s: the last sample's
+            if gamma_free and val1 >= parent_values[h] and val1 >= margin:
+                continue
             gamma = adaptive_gamma(par, x, y, th, hx, hy)
-            if (val1 - val0) / dt < -gamma * (val1 - margin):
+            if (val1 - parent_values[h]) / dt < -gamma * (val1 - margin):
                 return True
     return False
 
@@ -463,8 +489,11 @@ def human_prune_batch(kind, f, par, humans, parents, samples, t0, durations):
     human pruner drops."""
     fv, m = field_meta(f)
     out = np.zeros(samples.shape[0], np.bool_)
+    at_parent = np.empty(humans.shape[0])
     for i in range(samples.shape[0]):
-        out[i] = human_prunes(kind, fv, m, par, humans, parents[i], t0[i], durations[i], samples[i],
+        p = parents[i]
+        human_values_at(fv, m, par, humans, p[0], p[1], p[2], p[3], t0[i], at_parent)
+        out[i] = human_prunes(kind, fv, m, par, humans, at_parent, t0[i], durations[i], samples[i],
                               samples.shape[1])
     return out
 

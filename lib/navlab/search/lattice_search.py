@@ -35,6 +35,7 @@ from navlab.search.lattice_fields import (
     S_NONE,
     S_OBS,
     S_OBS_POINT,
+    U_FI,
     U_NONE,
     GridField,
     cell_min,
@@ -44,6 +45,7 @@ from navlab.search.lattice_fields import (
     heuristic_batch,
     human_prune_batch,
     human_prunes,
+    human_values_at,
     interp2,
     obs_clearance,
     static_prune_batch,
@@ -380,6 +382,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
     nx, ny, nlev, nbins = dims[0], dims[1], dims[2], dims[3]
     n_prim, n_samp = table.shape[1], table.shape[2]
     segment = np.empty((1, n_samp, 4))  # one segment, indexed as first_unsafe reads it
+    at_parent = np.empty(humans.shape[0])  # the expanded node's human values (the FI rule's V before the step)
     samples = segment[0]
     bin_w = 2.0 * math.pi / nbins
     dv, zero = goal[4], round(goal[5])  # the lattice's speed step and the index of its level 0 m/s
@@ -473,6 +476,8 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
         here = st[cur]  # the parent's state, from which the swept checks start
         sq0 = obs_clearance(sv, sm, sp, sx, sy) if sk == S_OBS else 0.0
         cq0 = obs_clearance(cv_, cm_, cp, sx, sy) if ck == S_OBS else 0.0
+        if uk == U_FI:
+            human_values_at(uv, um, up, humans, sx, sy, sv_, sth, tn[cur], at_parent)
         for p in range(n_prim):
             # the successor first (most are no improvement on their cell: no segment, no look-up for them)
             r0, r1 = rows[p, last, 0], rows[p, last, 1]
@@ -515,7 +520,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
                 p_evals += bad + 1 if bad >= 0 else n_samp
                 if bad >= 0:
                     continue
-            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, st[cur], tn[cur], dt, samples, n_samp):
+            if uk != U_NONE and human_prunes(uk, uv, um, up, humans, at_parent, tn[cur], dt, samples, n_samp):
                 continue
             h = heuristic(hk, hv, hm, hp, kx, ky, ev, kth)
             h_evals += 1
