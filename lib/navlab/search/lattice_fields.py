@@ -392,7 +392,7 @@ def adaptive_gamma(par, x, y, th, hx, hy):
     return par[5] - (par[5] - par[4]) * risk
 
 
-@numba.njit(cache=True, inline="always", error_model="numpy")
+@numba.njit(cache=True, error_model="numpy")
 def human_values_at(fv, m, par, humans, x, y, v, th, t0, out):
     """``out[h]``: the human BRT value of the state (x, y, v, θ), ``t0`` s after the observation, against
     human h where it walks by then (held after ``par[10]`` s). The FI rule's V at a parent, which is the
@@ -405,7 +405,7 @@ def human_values_at(fv, m, par, humans, x, y, v, th, t0, out):
     return out
 
 
-@numba.njit(cache=True, inline="always", error_model="numpy")
+@numba.njit(cache=True, error_model="numpy")
 def human_prunes(kind, fv, m, par, humans, parent_values, t0, duration, samples, n):
     """True when any of the ``n`` segment samples (last = the successor) of a parent violates a human pruner.
 

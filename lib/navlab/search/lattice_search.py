@@ -637,6 +637,16 @@ def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
                          f"so no search can reach it; move the goal")
 
 
+def _read_only(field: GridField) -> GridField:
+    """``field`` with its values as a read-only view. Why: numba compiles ``_search`` once per combination of
+    argument types, and read-only is part of an array's type; fields arrive writable (built in memory) or
+    read-only (memory-mapped stored grids), so each mix of heuristic and pruners cost a compile of its own
+    (about 40 s each, four of them on a fresh checkout's HJ stages). One type: one compile."""
+    values = field.values.view()
+    values.flags.writeable = False
+    return field._replace(values=values)
+
+
 def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *, pruners: Pruners = NO_PRUNERS,
            costmap: Costmap = Costmap(), budget: Budget = A_STAR, table: np.ndarray | None = None,
            keep_frontier: bool = False, upper_bound: float = math.inf) -> SearchResult:
@@ -678,11 +688,11 @@ def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, 
     goal_arr = np.array([goal.xy[0], goal.xy[1], goal.tolerance, goal.max_speed, spec.dv, spec.zero_level])
     cf = costmap.field if costmap.field is not None else GridField.empty(2)
     inputs = (start, goal_arr, table, root, (spec.dt, spec.cell_m, dims, spec.snap_states),
-              (heuristic_.kind, heuristic_.field, heuristic_.par),
-              ((static.kind, static.field, static.lower, static.par),
-               (collision.kind, collision.field, collision.lower, collision.par),
-               (human.kind, human.field, human.par, np.ascontiguousarray(human.humans, np.float64))),
-              (costmap.field is not None, cf, float(costmap.weight)))
+              (heuristic_.kind, _read_only(heuristic_.field), heuristic_.par),
+              ((static.kind, _read_only(static.field), static.lower, static.par),
+               (collision.kind, _read_only(collision.field), collision.lower, collision.par),
+               (human.kind, _read_only(human.field), human.par, np.ascontiguousarray(human.humans, np.float64))),
+              (costmap.field is not None, _read_only(cf), float(costmap.weight)))
     frontier = Frontier(spec, costmap, root_controls, budget, inputs, _fresh_state(int(np.prod(dims)), upper_bound))
     return _go_on(frontier, int(budget.max_expansions), keep_frontier)
 
