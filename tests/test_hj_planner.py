@@ -196,6 +196,31 @@ def test_compiled_pruners_match_numpy_references_and_fi_contains_fs(grids, smoke
     assert fs_count > 0 and moved > 0  # the prediction changes decisions
 
 
+@pytest.mark.parametrize("gammas", [(0.8, 1.2), (0.0, 1.2), (0.0, 0.0), (1.2, 0.8)])
+@pytest.mark.parametrize("margin", [0.0, 0.1])
+def test_compiled_fi_rule_matches_its_numpy_twin_at_every_gamma_range(grids, smoke_params, gammas, margin):
+    """The compiled FI pruner checks each sample against all humans at once, takes the parent's values once
+    per expansion and skips γ where Eq. 15 holds whatever γ >= 0 is (V not lowered from above the margin).
+    Its decisions must be the numpy twin's for three humans, at γ ranges on both sides of that skip's
+    condition (γ_min = 0, where γ may round to zero, and γ_min > γ_max, where the skip is off)."""
+    rng = np.random.default_rng(1)
+    spec = dataclasses.replace(SPEC, snap_states=False)
+    table = primitive_table(spec)
+    human = load_human_brt(smoke_params, grids)
+    fi = FIParams(margin=margin, gamma_min=gammas[0], gamma_max=gammas[1])
+    outcomes = set()
+    for _ in range(20):
+        s = np.array([rng.uniform(0.5, 9.0), rng.uniform(0.5, 5.0), rng.choice([0.0, 0.25, 0.5]),
+                      rng.uniform(-math.pi, math.pi)])
+        samples = successor_samples(spec, table, s)
+        parents = np.broadcast_to(s, (len(samples), 4))
+        humans = s[:2] + rng.normal(0, 1.2, size=(3, 2))
+        compiled = human_pruner(human, humans, "fi", fi)(parents, samples)
+        assert (compiled == human_prune_reference(human, humans, "fi", fi, parents, samples)).all()
+        outcomes |= set(compiled.tolist())
+    assert outcomes == {True, False}  # both decisions were compared
+
+
 def test_plans_with_the_brt_pruner_pass_the_densified_check(grids, smoke_params):
     planner = Planner(smoke_params, grids, "simulation", costs=True, log=lambda m: None)
     assert planner.margin > 0  # measured against the finer solve, not assumed
