@@ -46,6 +46,7 @@ from navlab.pacer.experiments import (
     uniform_method,
     window_oracle_method,
 )
+from navlab.pacer.feature_memo import FeatureMemo, share_features
 from navlab.pacer.map_windows import map_windows
 from navlab.pacer.recognition import recognition_rows, true_terrain_method, true_terrains_name
 from navlab.pacer.terrain import TerrainBank
@@ -63,13 +64,17 @@ ENVIRONMENTS = ("seen", "unseen")
 PREFERENCES = ("realistic", "inverted")
 PHASE_NAMES = {"phase1": "D_real", "phase2": "D_shuffled", "phase3": "D_synthetic"}  # Tables III-V's rows
 VARIANTS = ((PAPER_ARCHITECTURE, PAPER_ARCHITECTURE_ROW), (SCRATCH_MATCHER, SCRATCH_MATCHER_ROW))
+# the frozen ImageNet features one run keeps for its models to share (``feature_memo``): one map group's
+# windows under every model of a table are about 0.5 GB at the default size
+FEATURE_MEMO_BYTES = 1 << 30
 
 
-def variant_models(params: Params, artifacts_dir: str | Path) -> dict[str, torch.nn.Module]:
+def variant_models(params: Params, artifacts_dir: str | Path, memo: FeatureMemo) -> dict[str, torch.nn.Module]:
     """The labelled variant rows' phase-3 models (one seed each): the paper's architecture and the from-scratch
     matcher (``navlab.pacer.variants``)."""
     device = params.pacer.train.device
-    return {row: load_model(phase_model(artifacts_dir, variant), device) for variant, row in VARIANTS}
+    return {row: share_features(load_model(phase_model(artifacts_dir, variant), device), memo)
+            for variant, row in VARIANTS}
 
 
 def _reference_methods(params: Params) -> dict[str, tuple[Method, ContextKind]]:
@@ -95,13 +100,14 @@ def navigation_runs(params: Params, data_dir: str | Path, artifacts_dir: str | P
     STERLING-style and the semantic classifier; ground truth and the reference rows."""
     P = params.pacer
     device, artifacts = P.train.device, Path(artifacts_dir) / "pacer"
-    models = {seed: load_model(path, device) for seed, path in seed_models(artifacts_dir, P).items()}
+    memo = FeatureMemo(FEATURE_MEMO_BYTES)
+    models = {seed: share_features(load_model(path, device), memo) for seed, path in seed_models(artifacts_dir, P).items()}
     seeded = {"PACER": True, "PACER (uninformative context)": False}
     methods = {seed_member(name, seed): (pacer_method(model, P.data, device), informative)
                for name, informative in seeded.items() for seed, model in models.items()}
     methods |= {true_terrains_name("PACER"): (true_terrain_method(models[P.seed].matcher), True)}
     methods |= {row: (pacer_method(model, P.data, device), True)
-                for row, model in variant_models(params, artifacts_dir).items()}
+                for row, model in variant_models(params, artifacts_dir, memo).items()}
     methods |= {
         "STERLING-style": (sterling_method(load_sterling(artifacts / "sterling" / "encoder.pt"),
                                            P.baselines.sterling.utility_steps), True),
@@ -140,10 +146,12 @@ def phase_ablation_runs(params: Params, data_dir: str | Path, artifacts_dir: str
     from-scratch matcher's phase-3 matchers, Table V's margin ranking)."""
     P = params.pacer
     device, artifacts = P.train.device, Path(artifacts_dir) / "pacer"
-    by_seed = {PHASE_NAMES[p]: {seed: load_model(path, device) for seed, path in seed_models(artifacts_dir, P, p).items()}
+    memo = FeatureMemo(FEATURE_MEMO_BYTES)
+    by_seed = {PHASE_NAMES[p]: {seed: share_features(load_model(path, device), memo)
+                                for seed, path in seed_models(artifacts_dir, P, p).items()}
                for p in PHASES}
     models = {name: seeds[P.seed] for name, seeds in by_seed.items()}
-    variants = variant_models(params, artifacts_dir)
+    variants = variant_models(params, artifacts_dir, memo)
     summaries = {PHASE_NAMES[p]: read_summary(artifacts / p) for p in PHASES}
     methods = {seed_member(name, seed): (pacer_method(m, P.data, device), True)
                for name, seeds in by_seed.items() for seed, m in seeds.items()}
