@@ -491,8 +491,9 @@ def human_prune_batch(kind, f, par, humans, parents, samples, t0, durations):
     out = np.zeros(samples.shape[0], np.bool_)
     at_parent = np.empty(humans.shape[0])
     for i in range(samples.shape[0]):
-        p = parents[i]
-        human_values_at(fv, m, par, humans, p[0], p[1], p[2], p[3], t0[i], at_parent)
+        if kind == U_FI:  # only the FI rule reads the parent's values
+            p = parents[i]
+            human_values_at(fv, m, par, humans, p[0], p[1], p[2], p[3], t0[i], at_parent)
         out[i] = human_prunes(kind, fv, m, par, humans, at_parent, t0[i], durations[i], samples[i],
                               samples.shape[1])
     return out

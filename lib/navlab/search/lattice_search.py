@@ -60,6 +60,16 @@ STATUS = {FOUND: "found", EXPANSION_LIMIT: "expansion limit", TIME_LIMIT: "time 
 MAX_SOLUTIONS = 512
 
 
+def _read_only(field: GridField) -> GridField:
+    """``field`` with its values as a read-only view. Why: numba compiles ``_search`` once per combination of
+    argument types, and read-only is part of an array's type; fields arrive writable (built in memory) or
+    read-only (memory-mapped stored grids), so each mix of heuristic and pruners cost a compile of its own
+    (about 50 s each, four of them on a fresh checkout's HJ stages). One type: one compile."""
+    values = field.values.view()
+    values.flags.writeable = False
+    return field._replace(values=values)
+
+
 @dataclass(frozen=True)
 class Heuristic:
     """What the compiled search evaluates as h: a kind code (``lattice_fields.H_*``), a field and par."""
@@ -160,12 +170,9 @@ class HumanPruner:
     name: str = ""
 
     def __post_init__(self):
-        # the compiled search takes the field's values read-only, whatever they came as: a stored BRT is a
-        # read-only memory map, NO_HUMAN's placeholder and a solved one are not, and numba compiles the whole
-        # search once per array type (the HJ playground's first human: a second 2-minute compile)
-        values = self.field.values.view()
-        values.flags.writeable = False
-        object.__setattr__(self, "field", self.field._replace(values=values))
+        # read-only whatever it came as (a stored BRT is a memory map, NO_HUMAN's placeholder and a solved one
+        # are not): ``human_prune_batch`` compiles once per array type, as ``search`` does (``_read_only``)
+        object.__setattr__(self, "field", _read_only(self.field))
         humans = np.asarray(self.humans, np.float64)
         if humans.ndim != 2 or humans.shape[1] != 4:
             raise ValueError(f"humans must be (H, 4) (x, y, vx, vy), got {humans.shape}")
@@ -635,16 +642,6 @@ def _check_ends(pruner: StaticPruner, start: np.ndarray, goal: Goal) -> None:
         raise ValueError(f"goal {goal.xy} (tolerance {goal.tolerance} m) is wholly pruned by the {name} pruner "
                          f"(value <= {clearance:.3f} at every state within it: in collision or inside the BRT), "
                          f"so no search can reach it; move the goal")
-
-
-def _read_only(field: GridField) -> GridField:
-    """``field`` with its values as a read-only view. Why: numba compiles ``_search`` once per combination of
-    argument types, and read-only is part of an array's type; fields arrive writable (built in memory) or
-    read-only (memory-mapped stored grids), so each mix of heuristic and pruners cost a compile of its own
-    (about 40 s each, four of them on a fresh checkout's HJ stages). One type: one compile."""
-    values = field.values.view()
-    values.flags.writeable = False
-    return field._replace(values=values)
 
 
 def search(spec: LatticeSpec, bounds, start, goal: Goal, heuristic_: Heuristic, *, pruners: Pruners = NO_PRUNERS,
