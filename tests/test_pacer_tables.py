@@ -216,19 +216,27 @@ def test_the_paper_architecture_variant_is_the_released_design_at_this_size(smok
     assert paths[other] == phase_model(tmp_path, SEEDS, "phase2", other)
 
 
-def test_the_scratch_matcher_variant_differs_only_in_the_matchers_features(smoke_params):
+@pytest.mark.parametrize("profile", ["smoke", "default"])
+def test_the_scratch_matcher_variant_differs_only_in_the_matchers_features(profile):
     """Issue 61's from-scratch row: the main recipe, its matcher's towers learnt from the seen photographs instead
-    of EfficientNet-Lite0's frozen ImageNet features; nothing else changes, so the row measures the features."""
-    import dataclasses
-
+    of EfficientNet-Lite0's frozen ImageNet features, on the same grid (the cosines' shape); nothing else changes,
+    so the row measures the features."""
+    from navlab.core.params import load_params
     from navlab.pacer.model import build_model
     from navlab.pacer.pretrained import ImageNetFeatures
     from navlab.pacer.variants import scratch_matcher
 
-    main, scratch = smoke_params.pacer, scratch_matcher(smoke_params).pacer
+    params = load_params(profile)
+    main, scratch = params.pacer, scratch_matcher(params).pacer
     assert main.model.match_features == "imagenet" and scratch.model.match_features == "scratch"
-    assert dataclasses.replace(scratch.model, match_features="imagenet") == main.model
+    assert dataclasses.replace(scratch.model, match_features="imagenet", match_dilated=main.model.match_dilated,
+                               match_channels=main.model.match_channels) == main.model
     assert (scratch.train, scratch.data) == (main.train, main.data)
-    matcher = build_model(scratch.model, patch_size=scratch.data.patch_size).matcher
-    assert matcher is not None and not isinstance(matcher.features, ImageNetFeatures)
-    assert isinstance(build_model(main.model, patch_size=main.data.patch_size).matcher.features, ImageNetFeatures)
+    models = [build_model(cfg.model, patch_size=cfg.data.patch_size).eval() for cfg in (main, scratch)]
+    assert isinstance(models[0].matcher.features, ImageNetFeatures)
+    assert not isinstance(models[1].matcher.features, ImageNetFeatures)
+    size, h = 4 * main.data.patch_size, main.data.patch_size
+    image, context = torch.rand(1, 3, size, size), torch.rand(1, 3 * models[0].context_pairs, 2 * h, h)
+    with torch.no_grad():
+        grids = [model.scored(image, context)[1].shape for model in models]
+    assert grids[0] == grids[1] and grids[0][-1] == size // min(ImageNetFeatures.STRIDES)

