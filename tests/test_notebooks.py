@@ -50,7 +50,7 @@ def declared_reports(notebook) -> list[str]:
 
 
 def check_report(path: Path, profile: str) -> None:
-    """The DESIGN.md report contract: required keys, rows within the columns, numbers or null, every
+    """The report contract (docs/design.md): required keys, rows within the columns, numbers or null, every
     ``<column>_ci`` an interval [lo, hi] (or null) beside its column, and a Markdown twin."""
     report = read_table(path)
     assert report["profile"] == profile and report["rows"], f"{path}: empty or from another profile"

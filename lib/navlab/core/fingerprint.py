@@ -1,4 +1,4 @@
-"""Code fingerprints: the sha256 of the navlab source a result was made by (DESIGN.md, "Caches").
+"""Code fingerprints: the sha256 of the navlab source a result was made by (docs/design.md, "Caches").
 
 Why: a cache keyed on parameters alone outlives the code that made it (issue 13: an edited loss, HJ
 dynamics or map generator left every cache "up to date"). Every "already built / resume" decision keys

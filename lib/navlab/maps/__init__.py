@@ -1,4 +1,4 @@
-"""navlab.maps: semantic city maps for the SuReNav benchmark (see DESIGN.md for the layer).
+"""navlab.maps: semantic city maps for the SuReNav benchmark (docs/design.md, "Layers").
 
 ``osm`` rasterises OpenStreetMap extracts (``load_city``), ``procedural`` generates seeded city tiles,
 ``tiles`` cuts real cities into held-out test tiles, ``network``/``routing``/``osrm`` give walkable

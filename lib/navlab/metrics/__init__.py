@@ -1,1 +1,1 @@
-"""navlab.metrics (see DESIGN.md for what this layer holds)."""
+"""navlab.metrics (docs/design.md, "Layers", says what this layer holds)."""

@@ -1,4 +1,4 @@
-"""95% confidence intervals for figures computed from a sample (DESIGN.md report contract).
+"""95% confidence intervals for figures computed from a sample (docs/design.md, "The report contract").
 
 A table cell that averages over environments carries a percentile-bootstrap interval over those
 environments (Efron and Tibshirani, "An Introduction to the Bootstrap", 1993, ch. 13): resample the

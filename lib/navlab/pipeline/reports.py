@@ -1,8 +1,9 @@
-"""Report files: the contract between notebooks, the README, DVC metrics and reviewers (DESIGN.md).
+"""Report files: the contract between notebooks, the README, DVC metrics and reviewers (docs/design.md, "The
+report contract").
 
 Each reproduced table is ``reports/<paper>/<table_id>.json`` (our numbers beside the paper's) and a
 Markdown twin (the claims as a table); ``pipeline.results.write_index`` gathers them into the results
-page. Beyond the DESIGN.md keys, the JSON carries the typed ``claims`` and ``metrics``: our rows again,
+page. Beyond the contract's keys, the JSON carries the typed ``claims`` and ``metrics``: our rows again,
 keyed by row, because `dvc metrics show/diff` only read numbers out of mappings, not out of ``rows``.
 """
 
@@ -20,7 +21,7 @@ from navlab.core.io import write_json, write_text
 from navlab.metrics.tables import Table
 
 REQUIRED = ("table_id", "paper_ref", "profile", "seeds", "columns", "rows", "paper", "notes")
-TABLE_IDS = {  # every paper table DESIGN.md promises; the index lists the ones without a report yet
+TABLE_IDS = {  # every paper table the report contract promises; the index lists the ones without a report yet
     "surenav": ("table1_human_likeness", "fig4_safety_efficiency"),
     "hj": ("table1_heuristics_astar", "table2_heuristics_anastar", "table3_pruning_astar",
            "table4_pruning_anastar", "table5_static_general", "table6_dynamic", "table7_compute", "table8_rooms",
@@ -71,7 +72,7 @@ def read_table(path: str | Path) -> dict[str, Any]:
     report = json.loads(Path(path).read_text())
     missing = [k for k in REQUIRED if k not in report]
     if missing:
-        raise ValueError(f"{path}: report lacks {', '.join(missing)} (DESIGN.md report contract)")
+        raise ValueError(f"{path}: report lacks {', '.join(missing)} (docs/design.md, 'The report contract')")
     return report
 
 

@@ -1,1 +1,1 @@
-"""navlab.search (see DESIGN.md for what this layer holds)."""
+"""navlab.search (docs/design.md, "Layers", says what this layer holds)."""

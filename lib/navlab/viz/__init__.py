@@ -1,1 +1,1 @@
-"""navlab.viz (see DESIGN.md for what this layer holds)."""
+"""navlab.viz (docs/design.md, "Layers", says what this layer holds)."""
