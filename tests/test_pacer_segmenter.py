@@ -1,7 +1,9 @@
-"""The recognition reference (pacer.baselines.segmenter): its cost rule, its plumbing, and that it learns."""
+"""The recognition reference (benchmarks/pacer_recognition_reference.py, the one script that uses its terrain
+segmenter): its cost rule, its plumbing, and that it learns."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import subprocess
 import sys
@@ -14,14 +16,15 @@ from torch.nn import functional as F
 
 from navlab.core.params import load_params
 from navlab.pacer.aerial import AerialMap
-from navlab.pacer.baselines.segmenter import (
-    SegmenterSettings,
-    TerrainSegmenter,
-    _targets,
-    expected_rank_costs,
-    segmenter_method,
-)
 from navlab.pacer.preferences import IGNORE, target_costmap
+
+SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "pacer_recognition_reference.py"
+_spec = importlib.util.spec_from_file_location("pacer_recognition_reference", SCRIPT)
+reference = importlib.util.module_from_spec(_spec)
+sys.modules[_spec.name] = reference  # dataclasses resolve their module's annotations through sys.modules
+_spec.loader.exec_module(reference)
+SegmenterSettings, TerrainSegmenter, _targets = reference.SegmenterSettings, reference.TerrainSegmenter, reference._targets
+expected_rank_costs, segmenter_method = reference.expected_rank_costs, reference.segmenter_method
 
 LABELS = (3, 5, 8, 11)
 
@@ -138,7 +141,7 @@ def test_the_recognition_reference_script_runs_end_to_end(smoke_data, tmp_path):
     """benchmarks/pacer_recognition_reference.py on the smoke data (one tiny epoch): it once broke unnoticed when
     the held-out BEV sets became procedural; every row of both preferences must come back as low-tier shares."""
     out = tmp_path / "reference.json"
-    script = Path(__file__).resolve().parents[1] / "benchmarks" / "pacer_recognition_reference.py"
+    script = SCRIPT
     command = [sys.executable, str(script), "--profile", "smoke", "--terrains", "seen", "--epochs", "1",
                "--examples", "8", "--threads", "1", "--data-dir", str(smoke_data), "--out", str(out)]
     done = subprocess.run(command, check=False, capture_output=True, text=True, timeout=600)
