@@ -407,11 +407,12 @@ def test_phase_two_starts_from_phase_one_weights(smoke, tmp_path):
     assert moved_from_phase1 < 1e-4 < fresh_gap
 
 
-def test_semantic_classifier_separates_terrains(smoke):
+def test_semantic_classifier_separates_terrains(smoke, tmp_path):
     data = [TinyTerrainSet(12)]
     cfg = dataclasses.replace(smoke.baselines.classifier, epochs=3, patches_per_epoch=96, batch_size=16, lr=0.01,
                               val_patches=64)
-    model, summary = train_classifier(data, cfg, PATCH, seed=0, progress=False, val_datasets=[TinyTerrainSet(6, seed=3)])
+    model, summary = train_classifier(data, cfg, PATCH, seed=0, checkpoint=tmp_path / "classifier.pt", progress=False,
+                                      val_datasets=[TinyTerrainSet(6, seed=3)])
     assert set(model.labels) <= {0, 1, 2}
     assert 1 <= summary["best_epoch"] <= 3 and summary["val_accuracy"] > 0.9
     item = TinyTerrainSet(4, seed=7)[0]
@@ -426,6 +427,36 @@ def test_semantic_classifier_separates_terrains(smoke):
         model.costmap(torch.as_tensor(item["image"]), {0: 0.0})
 
 
+def test_a_killed_classifier_run_resumes_to_the_uninterrupted_weights(smoke, tmp_path, monkeypatch):
+    """Issue 62: the baselines train through core.training.fit; a run killed after its first epoch and started
+    again continues from the checkpoint (each epoch's shuffle has its own generator) to the same weights."""
+    from navlab.pacer.baselines import semantic_classifier
+
+    data, val = [TinyTerrainSet(12)], [TinyTerrainSet(6, seed=3)]
+    cfg = dataclasses.replace(smoke.baselines.classifier, epochs=3, patches_per_epoch=64, batch_size=16, lr=0.01,
+                              val_patches=32)
+    whole, summary = train_classifier(data, cfg, PATCH, seed=0, checkpoint=tmp_path / "whole.pt", progress=False,
+                                      val_datasets=val)
+    measured = semantic_classifier.patch_accuracy
+    calls = []
+
+    def killed_in_epoch_two(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return measured(*args, **kwargs)
+
+    monkeypatch.setattr(semantic_classifier, "patch_accuracy", killed_in_epoch_two)
+    with pytest.raises(KeyboardInterrupt):
+        train_classifier(data, cfg, PATCH, seed=0, checkpoint=tmp_path / "killed.pt", progress=False, val_datasets=val)
+    monkeypatch.setattr(semantic_classifier, "patch_accuracy", measured)
+    resumed, resumed_summary = train_classifier(data, cfg, PATCH, seed=0, checkpoint=tmp_path / "killed.pt",
+                                                progress=False, val_datasets=val)
+    assert resumed_summary == summary
+    for name, weight in whole.state_dict().items():
+        assert torch.equal(weight, resumed.state_dict()[name]), name
+
+
 def test_vicreg_terms():
     gen = torch.Generator().manual_seed(0)
     z = torch.randn(64, 8, generator=gen) * 2
@@ -436,9 +467,9 @@ def test_vicreg_terms():
     assert views.shape == (4, 3, 8, 8) and views.min() >= 0 and views.max() <= 1
 
 
-def test_sterling_utility_follows_the_context(smoke):
+def test_sterling_utility_follows_the_context(smoke, tmp_path):
     cfg = dataclasses.replace(smoke.baselines.sterling, epochs=2, patches_per_epoch=64, batch_size=32)
-    model = train_sterling([TinyTerrainSet(12)], cfg, PATCH, seed=0, progress=False)
+    model = train_sterling([TinyTerrainSet(12)], cfg, PATCH, seed=0, checkpoint=tmp_path / "sterling.pt", progress=False)
     assert isinstance(model, SterlingEncoder)
     for ordering in ((0, 1, 2), (2, 1, 0)):
         item = TinyTerrainSet(4, ordering=ordering, seed=3)[1]

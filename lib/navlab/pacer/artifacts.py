@@ -81,8 +81,9 @@ def build_sterling(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
     real = pacer_dataset(params, data_dir, "real", "train")
     b = params.pacer.baselines
     device = str(resolve_device(params.pacer.train.device))
-    encoder = train_sterling([real], b.sterling, b.patch_size, params.pacer.seed, device)
-    save_sterling(encoder, phase_dir(artifacts_dir, "sterling") / "encoder.pt")
+    out = phase_dir(artifacts_dir, "sterling")
+    encoder = train_sterling([real], b.sterling, b.patch_size, params.pacer.seed, out / "checkpoint.pt", device)
+    save_sterling(encoder, out / "encoder.pt")
 
 
 def build_classifier(params: Params, data_dir: Path, artifacts_dir: Path) -> None:
@@ -92,9 +93,9 @@ def build_classifier(params: Params, data_dir: Path, artifacts_dir: Path) -> Non
     real, val = (pacer_dataset(params, data_dir, "real", split, bank) for split in ("train", "val"))
     b = params.pacer.baselines
     device = str(resolve_device(params.pacer.train.device))
-    model, summary = train_classifier([real], b.classifier, b.patch_size, params.pacer.seed, device,
-                                      val_datasets=[val])
     out = phase_dir(artifacts_dir, "classifier")
+    model, summary = train_classifier([real], b.classifier, b.patch_size, params.pacer.seed, out / "checkpoint.pt",
+                                      device, val_datasets=[val])
     save_classifier(model, out / "classifier.pt")
     write_json(out / "summary.json", summary)
 

@@ -8,13 +8,18 @@ than PACER's per-pixel decoder (Sec. VII).
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 import torch
 from torch.nn import functional as F
 from torch.utils.data import Dataset
 
+from navlab.core.fingerprint import code_fingerprint
+from navlab.core.io import sha256_json
 from navlab.core.seeding import rng
 
 
@@ -45,6 +50,20 @@ def sample_patches(datasets: Sequence[Dataset], count: int, size: int, seed: int
             patches.append(image[:, r:r + size, c:c + size])
             labels.append(int(lab[r + size // 2, c + size // 2]))
     return torch.stack(patches[:count]), torch.as_tensor(labels[:count])
+
+
+def baseline_key(module: str, cfg: Any, *, patch_size: int, seed: int, device: str,
+                 patches: Sequence[torch.Tensor]) -> str:
+    """What a patch baseline's checkpoint must match to be resumed (``core.training.fit``): the code of
+    ``module`` and what it imports, the baseline's parameters, patch size, seed, device and torch thread count
+    (each sums a convolution's terms in its own order), and the bytes of the patches it trains on (they stand
+    for the photographs and the renderer that made them)."""
+    digest = hashlib.blake2b(digest_size=16)
+    for tensor in patches:
+        digest.update(tensor.detach().cpu().contiguous().numpy().tobytes())
+    return sha256_json({"code": code_fingerprint(module), "cfg": dataclasses.asdict(cfg), "patch_size": patch_size,
+                        "seed": seed, "device": str(device), "threads": torch.get_num_threads(),
+                        "patches": digest.hexdigest()})
 
 
 def dense_scores(image: torch.Tensor, size: int, score: Callable[[torch.Tensor], torch.Tensor]) -> torch.Tensor:

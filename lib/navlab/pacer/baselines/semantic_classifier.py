@@ -12,15 +12,15 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+import numpy as np
 import torch
 from torch.nn import functional as F
 from torch.utils.data import Dataset
-from tqdm.auto import tqdm
 
 from navlab.core.params.pacer import PacerClassifierParams
 from navlab.core.seeding import torch_generator
-from navlab.core.training import cosine_schedule, descend
-from navlab.pacer.baselines.patches import dense_scores, patch_cnn, sample_patches
+from navlab.core.training import TrainingRun, cosine_schedule, descend, fit
+from navlab.pacer.baselines.patches import baseline_key, dense_scores, patch_cnn, sample_patches
 from navlab.pacer.checkpoints import load_network, save_network
 
 
@@ -58,46 +58,48 @@ class SemanticClassifier(torch.nn.Module):
 
 
 def train_classifier(datasets: Sequence[Dataset], cfg: PacerClassifierParams, patch_size: int, seed: int,
-                     device: str = "cpu", progress: bool = True,
+                     checkpoint: str | Path, device: str = "cpu", progress: bool = True,
                      val_datasets: Sequence[Dataset] = ()) -> tuple[SemanticClassifier, dict]:
     """Fit the patch classifier on centre-labelled patches of the seen-terrain datasets (cross-entropy).
 
     Every epoch draws ``patches_per_epoch`` fresh patches; the learning rate decays by a cosine over the
     epochs. With ``val_datasets`` the weights of the epoch with the best held-out patch accuracy are
-    kept (the classifier is a baseline of its paradigm only if it is trained as well as it can be).
-    Returns (model, {"best_epoch", "val_accuracy", "epochs"}).
+    kept (the classifier is a baseline of its paradigm only if it is trained as well as it can be); without,
+    the last epoch's. Epochs run through ``core.training.fit``: ``checkpoint`` is written after every epoch
+    and a killed run resumes from it to the weights of an uninterrupted one (each epoch shuffles with a
+    generator of its own). The classes are the labels of the first epoch's and the validation patches (a
+    label first seen later is skipped). Returns (model, {"best_epoch", "val_accuracy", "epochs"}).
     """
     torch.manual_seed(seed)
-    known = None
-    model = optimiser = schedule = None
     val = sample_patches(val_datasets, cfg.val_patches, patch_size, seed, "classifier", "val") if val_datasets else None
-    gen = torch_generator(seed, "pacer.classifier.batches")
-    best = {"best_epoch": 0, "val_accuracy": None, "epochs": cfg.epochs}
-    best_weights = None
-    steps = cfg.epochs * -(-cfg.patches_per_epoch // cfg.batch_size)
-    for epoch in tqdm(range(cfg.epochs), desc="classifier", disable=not progress):
-        x, labels = sample_patches(datasets, cfg.patches_per_epoch, patch_size, seed, "classifier", epoch)
-        if model is None:
-            known = sorted(set(labels.tolist()) | (set(val[1].tolist()) if val is not None else set()))
-            model = SemanticClassifier(known, cfg.channels, patch_size).to(device)
-            optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
-            schedule = cosine_schedule(optimiser, steps, pi_first=True)
-        lookup = {lab: k for k, lab in enumerate(known)}
-        y = torch.as_tensor([lookup.get(int(v), -100) for v in labels])  # a label first seen later is skipped
-        model.train()
-        order = torch.randperm(len(x), generator=gen)
+    first = sample_patches(datasets, cfg.patches_per_epoch, patch_size, seed, "classifier", 0)
+    known = sorted(set(first[1].tolist()) | (set(val[1].tolist()) if val is not None else set()))
+    lookup = {lab: k for k, lab in enumerate(known)}
+    model = SemanticClassifier(known, cfg.channels, patch_size).to(device)
+    optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
+    schedule = cosine_schedule(optimiser, cfg.epochs * -(-cfg.patches_per_epoch // cfg.batch_size), pi_first=True)
+
+    def train_epoch(epoch: int) -> dict[str, float]:
+        x, labels = first if epoch == 0 else sample_patches(datasets, cfg.patches_per_epoch, patch_size, seed,
+                                                             "classifier", epoch)
+        y = torch.as_tensor([lookup.get(int(v), -100) for v in labels])
+        order = torch.randperm(len(x), generator=torch_generator(seed, "pacer.classifier.batches", epoch))
+        losses = []
         for start in range(0, len(x), cfg.batch_size):
             idx = order[start:start + cfg.batch_size]
-            descend(F.cross_entropy(model(x[idx].to(device)), y[idx].to(device), ignore_index=-100), optimiser,
-                    schedule)
-        if val is not None:
-            accuracy = patch_accuracy(model, *val, device=device)
-            if best["val_accuracy"] is None or accuracy > best["val_accuracy"]:
-                best.update(best_epoch=epoch + 1, val_accuracy=accuracy)
-                best_weights = {k: v.detach().clone() for k, v in model.state_dict().items()}
-    if best_weights is not None:
-        model.load_state_dict(best_weights)
-    return model.eval(), best
+            loss = F.cross_entropy(model(x[idx].to(device)), y[idx].to(device), ignore_index=-100)
+            descend(loss, optimiser, schedule)
+            losses.append(loss.item())
+        accuracy = patch_accuracy(model, *val, device=device) if val is not None else float("nan")
+        return {"train_loss": float(np.mean(losses)), "val_accuracy": accuracy}
+
+    key = baseline_key(__name__, cfg, patch_size=patch_size, seed=seed, device=device,
+                       patches=[first[0], *(val if val is not None else ())])
+    fitted = fit(model, optimiser, TrainingRun(Path(checkpoint), key, cfg.epochs, name="classifier", progress=progress),
+                 train_epoch, lambda row, best: val is None or row["val_accuracy"] > best["val_accuracy"],
+                 scheduler=schedule, device=device)
+    accuracy = fitted.best["val_accuracy"] if val is not None and fitted.best is not None else None
+    return model.eval(), {"best_epoch": fitted.best_epoch, "val_accuracy": accuracy, "epochs": cfg.epochs}
 
 
 @torch.no_grad()

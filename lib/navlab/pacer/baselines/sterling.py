@@ -22,15 +22,21 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
 import torch
 from torch.nn import functional as F
 from torch.utils.data import Dataset
-from tqdm.auto import tqdm
 
 from navlab.core.params.pacer import PacerSterlingParams
 from navlab.core.seeding import torch_generator
-from navlab.core.training import descend
-from navlab.pacer.baselines.patches import context_pairs, dense_scores, patch_cnn, sample_patches
+from navlab.core.training import TrainingRun, descend, fit
+from navlab.pacer.baselines.patches import (
+    baseline_key,
+    context_pairs,
+    dense_scores,
+    patch_cnn,
+    sample_patches,
+)
 from navlab.pacer.checkpoints import load_network, save_network
 
 
@@ -120,23 +126,34 @@ class SterlingEncoder(torch.nn.Module):
 
 
 def train_sterling(datasets: Sequence[Dataset], cfg: PacerSterlingParams, patch_size: int, seed: int,
-                   device: str = "cpu", progress: bool = True) -> SterlingEncoder:
-    """Self-supervised VICReg training on unlabelled patches of the seen-terrain datasets."""
+                   checkpoint: str | Path, device: str = "cpu", progress: bool = True) -> SterlingEncoder:
+    """Self-supervised VICReg training on unlabelled patches of the seen-terrain datasets, epoch by epoch
+    through ``core.training.fit``: ``checkpoint`` is written after every epoch, and a killed run resumes from
+    it to the weights of an uninterrupted one (each epoch draws its views from a generator of its own). The
+    last epoch's weights are kept: VICReg has no held-out score to select an epoch on."""
     patches, _ = sample_patches(datasets, cfg.patches_per_epoch * cfg.epochs, patch_size, seed, "sterling")
     torch.manual_seed(seed)
     model = SterlingEncoder(cfg.channels, cfg.embed_dim, patch_size).to(device)
     optimiser = torch.optim.Adam(model.parameters(), lr=cfg.lr)
-    gen = torch_generator(seed, "pacer.sterling.views")
-    model.train()
-    for epoch in tqdm(range(cfg.epochs), desc="STERLING", disable=not progress):
+
+    def train_epoch(epoch: int) -> dict[str, float]:
+        gen = torch_generator(seed, "pacer.sterling.views", epoch)
         x = patches[epoch * cfg.patches_per_epoch:(epoch + 1) * cfg.patches_per_epoch]
         order = torch.randperm(len(x), generator=gen)
+        losses = []
         for start in range(0, len(x) - 1, cfg.batch_size):
             batch = x[order[start:start + cfg.batch_size]]
             if len(batch) < 2:
                 continue
             v1, v2 = augment(batch, gen).to(device), augment(batch, gen).to(device)
-            descend(vicreg_loss(model(v1), model(v2), cfg.vicreg_weights), optimiser)
+            loss = vicreg_loss(model(v1), model(v2), cfg.vicreg_weights)
+            descend(loss, optimiser)
+            losses.append(loss.item())
+        return {"train_loss": float(np.mean(losses)) if losses else float("nan")}
+
+    key = baseline_key(__name__, cfg, patch_size=patch_size, seed=seed, device=device, patches=[patches])
+    fit(model, optimiser, TrainingRun(Path(checkpoint), key, cfg.epochs, name="STERLING", progress=progress),
+        train_epoch, lambda row, best: True, device=device)
     return model.eval()
 
 
