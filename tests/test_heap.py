@@ -1,6 +1,6 @@
 """The heaps of ``search.heap`` pop exactly what Python's ``heapq`` pops on ``(*keys, index)`` tuples: the
 lazy heap for any pushes, the indexed heap (grid A*, D* Lite) for any mix of inserts, decrease-keys,
-key changes either way and removals. Few distinct key values make many ties, so the tie-breaking by
+key changes either way and removals; the lattice search's deeper-first heap pops by key, then the larger g. Few distinct key values make many ties, so the tie-breaking by
 index is checked too (the planners' outputs, and the datasets built on them, depend on it)."""
 
 import heapq
@@ -42,6 +42,32 @@ def test_lazy_heap_pops_in_heapq_order(rows, width):
         item = heap.pop(keys, ids, size, out)
         assert (*out.tolist(), item) == expected
     assert size[0] == 0
+
+
+@settings(max_examples=80, deadline=None)
+@given(rows=st.lists(st.tuples(_VALUES, _VALUES, st.integers(0, 6)), min_size=1, max_size=60),
+       pops=st.lists(st.booleans(), max_size=60))
+def test_deeper_first_heap_pops_the_smallest_key_then_the_largest_g(rows, pops):
+    """The lattice search's open list: pushes and pops interleaved; each pop is an entry of the smallest key and,
+    among those, of the largest g (the node is free among entries equal in both), and nothing is lost."""
+    heap_k, heap_g, heap_c, n = np.empty(2), np.empty(2), np.empty(2, np.int64), 0  # small: pushing must grow it
+    queued = []
+
+    def pop_one():
+        nonlocal n
+        g, node, n = heap.deeper_first_pop(heap_k, heap_g, heap_c, n)
+        best = min(queued, key=lambda e: (e[0], -e[1]))
+        assert (best[0], best[1]) in [(k, gg) for k, gg, c in queued if c == node] and g == best[1]
+        queued.remove(next(e for e in queued if e[1] == g and e[2] == node and e[0] == best[0]))
+
+    for (k, g, node), pop_now in zip(rows, pops + [False] * len(rows)):
+        heap_k, heap_g, heap_c, n = heap.deeper_first_push(heap_k, heap_g, heap_c, n, k, g, node)
+        queued.append((k, g, node))
+        if pop_now:
+            pop_one()
+    while queued:
+        pop_one()
+    assert n == 0
 
 
 _OPS = st.lists(st.tuples(st.sampled_from(["set", "decrease", "remove", "pop"]), st.integers(0, 11),

@@ -21,6 +21,12 @@ the queue length, ``key`` (n, width) the keys, which the caller writes before it
 D* Lite (key (k1, k2)) calls these functions. Grid A* (key (f, g)) orders by ``before`` on the same
 layout but writes ``pop_top`` and ``insert_or_decrease`` out in its loop: called per cell they made it
 20-30% slower (see ``grid_astar._search``); the two copies must stay the same algorithm.
+
+(c) A lazy min-heap on three parallel arrays (key, g, node) ordered by the key, then by the larger g: of
+two entries with one key the deeper node comes first, the usual tie rule of A* and ANA* (it reaches the goal
+sooner). Entries equal in both come out in heap order, not by node. The Dubins-lattice search
+(``lattice_search._search``) keeps its open list here; ``deeper_first_push`` returns the arrays and the
+length, ``deeper_first_pop`` the popped g and node and the length.
 """
 
 from __future__ import annotations
@@ -213,3 +219,51 @@ def remove(queue, s):
     item = heap[n]
     _sift_up(heap, pos, key, i, item)
     _sift_down(heap, pos, key, pos[item], n)
+
+
+# ---- (c) lazy heap on parallel arrays, deeper node first ------------------------------------------------
+
+
+@njit(cache=True)
+def _deeper_first(ka, kb, ga, gb):
+    return ka < kb or (ka == kb and ga > gb)  # ties: deeper node first
+
+
+@njit(cache=True)
+def deeper_first_push(heap_k, heap_g, heap_c, n, k, g, c):
+    """Add node ``c`` with key ``k`` and cost-to-come ``g`` to the ``n`` entries of the parallel arrays; returns
+    the arrays (reallocated when full) and the new length."""
+    if n == heap_k.shape[0]:
+        heap_k = np.concatenate((heap_k, np.empty_like(heap_k)))
+        heap_g = np.concatenate((heap_g, np.empty_like(heap_g)))
+        heap_c = np.concatenate((heap_c, np.empty_like(heap_c)))
+    i = n
+    while i > 0:
+        p = (i - 1) >> 1
+        if not _deeper_first(k, heap_k[p], g, heap_g[p]):
+            break
+        heap_k[i], heap_g[i], heap_c[i] = heap_k[p], heap_g[p], heap_c[p]
+        i = p
+    heap_k[i], heap_g[i], heap_c[i] = k, g, c
+    return heap_k, heap_g, heap_c, n + 1
+
+
+@njit(cache=True)
+def deeper_first_pop(heap_k, heap_g, heap_c, n):
+    """Remove the first entry: returns its g, its node and the new length."""
+    top_g, top_c = heap_g[0], heap_c[0]
+    n -= 1
+    k, g, c = heap_k[n], heap_g[n], heap_c[n]
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= n:
+            break
+        if child + 1 < n and _deeper_first(heap_k[child + 1], heap_k[child], heap_g[child + 1], heap_g[child]):
+            child += 1
+        if not _deeper_first(heap_k[child], k, heap_g[child], g):
+            break
+        heap_k[i], heap_g[i], heap_c[i] = heap_k[child], heap_g[child], heap_c[child]
+        i = child
+    heap_k[i], heap_g[i], heap_c[i] = k, g, c
+    return top_g, top_c, n

@@ -9,9 +9,9 @@ r"""A* and ANA* on the Dubins lattice, compiled with numba (HJ-search paper, Sec
   the rest re-keyed. Every solution is recorded with the expansions and time it took and the bound
   ε = G / min_OPEN(g + h) (1 when OPEN is empty: the last solution is optimal).
 
-The expansion loop, the look-ups (``lattice_fields``) and the heap are one compiled function: an
-expansion rotates the precomputed primitive table (``dubins_lattice``), checks the pruners on the
-``samples_per_step`` points of every segment (an OBS pruner sweeps the path between them, provably:
+The expansion loop, the look-ups (``lattice_fields``) and the open list (``heap``'s deeper-first heap) are
+one compiled function: an expansion rotates the precomputed primitive table (``dubins_lattice``), checks the
+pruners on the ``samples_per_step`` points of every segment (an OBS pruner sweeps the path between them, provably:
 ``lattice_fields.swept_unsafe``) and evaluates the heuristic of improved successors.
 The cost of a step is ``dt · (1 + w · c(x, y))`` with ``c`` an optional state-cost raster (the paper's
 Nav2 costmap term; w = 0 gives time, the paper's "state cost 1.0"), so time heuristics stay admissible.
@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from navlab.search.dubins_lattice import LatticeSpec, first_step, primitive_table, snap
+from navlab.search.heap import deeper_first_pop, deeper_first_push
 from navlab.search.lattice_fields import (
     H_ZERO,
     S_NONE,
@@ -319,48 +320,6 @@ def _now():
 
 
 @numba.njit(cache=True)
-def _less(ka, kb, ga, gb):
-    return ka < kb or (ka == kb and ga > gb)  # ties: deeper node first
-
-
-@numba.njit(cache=True)
-def _push(heap_k, heap_g, heap_c, n, k, g, c):
-    if n == heap_k.shape[0]:
-        heap_k = np.concatenate((heap_k, np.empty_like(heap_k)))
-        heap_g = np.concatenate((heap_g, np.empty_like(heap_g)))
-        heap_c = np.concatenate((heap_c, np.empty_like(heap_c)))
-    i = n
-    while i > 0:
-        p = (i - 1) >> 1
-        if not _less(k, heap_k[p], g, heap_g[p]):
-            break
-        heap_k[i], heap_g[i], heap_c[i] = heap_k[p], heap_g[p], heap_c[p]
-        i = p
-    heap_k[i], heap_g[i], heap_c[i] = k, g, c
-    return heap_k, heap_g, heap_c, n + 1
-
-
-@numba.njit(cache=True)
-def _pop(heap_k, heap_g, heap_c, n):
-    top_g, top_c = heap_g[0], heap_c[0]
-    n -= 1
-    k, g, c = heap_k[n], heap_g[n], heap_c[n]
-    i = 0
-    while True:
-        child = 2 * i + 1
-        if child >= n:
-            break
-        if child + 1 < n and _less(heap_k[child + 1], heap_k[child], heap_g[child + 1], heap_g[child]):
-            child += 1
-        if not _less(heap_k[child], k, heap_g[child], g):
-            break
-        heap_k[i], heap_g[i], heap_c[i] = heap_k[child], heap_g[child], heap_c[child]
-        i = child
-    heap_k[i], heap_g[i], heap_c[i] = k, g, c
-    return top_g, top_c, n
-
-
-@numba.njit(cache=True)
 def _ana_key(G, g, h):
     """Min-heap key of ANA*: −e(s) once a solution exists, h before (G = ∞: greedy on h)."""
     if G == np.inf:
@@ -424,8 +383,8 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
         tn[0] = 0.0
         n_nodes = 1
         h_evals = 1
-        heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, _ana_key(G, 0.0, h0) if anytime
-                                               else h0, 0.0, 0)
+        start_key = _ana_key(G, 0.0, h0) if anytime else h0
+        heap_k, heap_g, heap_c, n_heap = deeper_first_push(heap_k, heap_g, heap_c, n_heap, start_key, 0.0, 0)
     status = NO_PATH if goal_node < 0 else FOUND
     stopped = False  # at a limit, with OPEN kept as it is: ``resume`` goes on from exactly here
     last = n_samp - 1
@@ -442,7 +401,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
                 if (expansions & 255) == 0 and _now() - t0 > time_limit:
                     status, stopped = (TIME_LIMIT if goal_node < 0 else FOUND), True
                     break
-        g_cur, cur, n_heap = _pop(heap_k, heap_g, heap_c, n_heap)
+        g_cur, cur, n_heap = deeper_first_pop(heap_k, heap_g, heap_c, n_heap)
         if best[cell[cur]] != cur:
             continue  # stale entry: its cell got a better node since
         if anytime and g_cur + hval[cur] >= G:
@@ -467,7 +426,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             n_heap = 0
             kk, gg, cc = heap_k[:m].copy(), heap_g[:m].copy(), heap_c[:m].copy()
             for i in range(m):
-                heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, kk[i], gg[i], cc[i])
+                heap_k, heap_g, heap_c, n_heap = deeper_first_push(heap_k, heap_g, heap_c, n_heap, kk[i], gg[i], cc[i])
             if n_sol < MAX_SOLUTIONS:
                 sol_i[n_sol] = expansions
                 sol_f[n_sol, 0], sol_f[n_sol, 1] = _now() - t0, G
@@ -548,7 +507,7 @@ def _search(start, goal, table, root, lattice, heur, prune, cost, limits, state)
             g[nc] = ng
             best[nc] = node
             key = _ana_key(G, ng, h) if anytime else ng + h
-            heap_k, heap_g, heap_c, n_heap = _push(heap_k, heap_g, heap_c, n_heap, key, ng, node)
+            heap_k, heap_g, heap_c, n_heap = deeper_first_push(heap_k, heap_g, heap_c, n_heap, key, ng, node)
     # the returned plan: the parent chain of the (last) goal node, as primitive indices from the start
     n_path = 0
     c = goal_node
