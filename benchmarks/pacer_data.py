@@ -18,8 +18,8 @@ import numpy as np
 
 from navlab.core.params import load_params
 from navlab.core.seeding import rng
-from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.datasets import evaluation_dataset, pacer_dataset
+from navlab.pacer.margin_ranking import margin_ranking_error
 from navlab.pacer.terrain import load_terrain_bank
 
 TARGET_ITEMS_PER_S = 200.0

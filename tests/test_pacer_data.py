@@ -15,11 +15,11 @@ from navlab.core.seeding import rng
 from navlab.maps.dataset import load_maps
 from navlab.maps.semantic_map import SemanticMap
 from navlab.metrics.cost_tiers import cost_tier_proportions
-from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.aerial import aerial_map, aerial_maps, semantic_map_regions
 from navlab.pacer.bev import fov_mask
 from navlab.pacer.context import preference_context, preference_pairs, stack_context, superset_terrains
 from navlab.pacer.datasets import PacerDataset, Recipe, evaluation_dataset, max_terrains, pacer_dataset
+from navlab.pacer.margin_ranking import margin_ranking_error
 from navlab.pacer.preferences import IGNORE, environment_tiers, order_terrains, rank_costs, target_costmap
 from navlab.pacer.terrain import load_terrain_bank
 from pacer_support import with_pacer_data

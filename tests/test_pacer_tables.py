@@ -12,9 +12,9 @@ import torch
 
 from navlab.core.seeding import rng
 from navlab.metrics.intervals import bootstrap_mean_ci
-from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.claims import CLAIMS, PAPER, gap_closed, gap_fraction, seen_claims, unseen_claims
 from navlab.pacer.experiments import Agreement, NavigationResult, margin_ranking_errors
+from navlab.pacer.margin_ranking import margin_ranking_error
 from navlab.pacer.recognition import RECOGNITION_CONTEXT, true_terrains_name
 from navlab.pacer.tables import (
     LIMITED,

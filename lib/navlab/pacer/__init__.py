@@ -19,11 +19,12 @@ Data half (one concept per module; everything seeded from params.yaml ``pacer``)
 * ``aerial``: ``aerial_maps(params, data_dir, "seen" | "unseen") -> list[AerialMap]`` for Tables I-II.
 
 Model half: ``model``, ``loss`` (masked BCE, entropy floor), ``train`` (three phases, cosine LR, early
-stopping on held-out loss keeping the best checkpoint), ``checkpoints``, ``baselines`` (STERLING-style,
+stopping on the selection score keeping the best checkpoint), ``checkpoints``, ``baselines`` (STERLING-style,
 semantic classifier), ``artifacts`` (the DVC stage builders).
 
 Measurement: ``evaluate`` (stitched BEV windows, window oracle, A*), ``experiments`` (Tables I-V and the
 ``context_following`` report, with bootstrap intervals and the uniform / window-oracle reference rows),
-``claims`` (the paper's numbers and the checks of its claims). Metrics live in
-``navlab.metrics.cost_tiers``, ``navlab.metrics.margin_ranking`` and ``navlab.metrics.intervals``.
+``claims`` (the paper's numbers and the checks of its claims), ``margin_ranking`` (Table V's metric, used by
+PACER alone). Metrics shared with the other tracks live in ``navlab.metrics.cost_tiers`` and
+``navlab.metrics.intervals``.
 """

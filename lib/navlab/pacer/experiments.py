@@ -29,7 +29,6 @@ from navlab.core.seeding import rng
 from navlab.metrics import crossed
 from navlab.metrics.cost_tiers import TIER_NAMES, cost_tier_proportions
 from navlab.metrics.intervals import bootstrap_mean_ci, bootstrap_ratio_ci
-from navlab.metrics.margin_ranking import margin_ranking_error
 from navlab.pacer.aerial import AerialMap
 from navlab.pacer.baselines.semantic_classifier import SemanticClassifier
 from navlab.pacer.baselines.sterling import SterlingEncoder
@@ -43,6 +42,7 @@ from navlab.pacer.evaluate import (
     window_oracle_costmap,
 )
 from navlab.pacer.map_windows import METRICS, MapWindow, window_scores
+from navlab.pacer.margin_ranking import margin_ranking_error
 from navlab.pacer.preferences import (
     context_limited_costs,
     environment_tiers,
