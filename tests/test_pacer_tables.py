@@ -240,3 +240,18 @@ def test_the_scratch_matcher_variant_differs_only_in_the_matchers_features(profi
     with torch.no_grad():
         grids = [model.scored(image, context)[1].shape for model in models]
     assert grids[0] == grids[1] and grids[0][-1] == size // min(ImageNetFeatures.STRIDES)
+
+
+def test_the_training_cost_of_every_network_is_summed_by_row_or_left_out():
+    """Issue 61's budget in the notes: minutes by row and in all, the peak memory; nothing where a folder's cost
+    was not recorded on this machine (a checkout from the DVC cache has none)."""
+    from navlab.pacer.tables import _all_training_cost
+
+    def phase(seconds, mib):
+        return {"train_seconds": seconds, "peak_rss_mib": mib}
+
+    training = {"seed 0": [phase(60, 800), phase(120, 810)], "paper": [phase(30, 700), phase(30, 900)]}
+    note = _all_training_cost(training)
+    assert "seed 0 3.0, paper 1.0 min, 4.0 min in all, peak resident memory 900 MiB" in note
+    assert _all_training_cost({**training, "scratch": [{"best_epoch": 3}]}) == ""
+    assert _all_training_cost({}) == ""

@@ -17,6 +17,7 @@ import numpy as np
 import torch
 
 from navlab.core.params import Params
+from navlab.core.params.pacer import PacerParams
 from navlab.pacer.aerial import AerialMap, aerial_maps
 from navlab.pacer.baselines.semantic_classifier import load_classifier
 from navlab.pacer.baselines.sterling import load_sterling
@@ -58,6 +59,7 @@ from navlab.pacer.variants import (
     SCRATCH_MATCHER_ROW,
     phase_model,
     seed_models,
+    training_seeds,
 )
 
 ENVIRONMENTS = ("seen", "unseen")
@@ -75,6 +77,15 @@ def variant_models(params: Params, artifacts_dir: str | Path, memo: FeatureMemo)
     device = params.pacer.train.device
     return {row: share_features(load_model(phase_model(artifacts_dir, variant), device), memo)
             for variant, row in VARIANTS}
+
+
+def training_summaries(pacer: PacerParams, artifacts_dir: str | Path) -> dict[str, list[dict]]:
+    """Every PACER network this profile trains, by row (each training seed of the main recipe, then the variant
+    rows): its phases' ``summary.json`` with the training cost where this machine trained it (issue 61's budget)."""
+    rows = {f"seed {seed}": [read_summary(seed_models(artifacts_dir, pacer, phase)[seed].parent) for phase in PHASES]
+            for seed in training_seeds(pacer)}
+    return rows | {row: [read_summary(phase_model(artifacts_dir, variant, phase).parent) for phase in PHASES]
+                   for variant, row in VARIANTS}
 
 
 def _reference_methods(params: Params) -> dict[str, tuple[Method, ContextKind]]:
@@ -128,7 +139,8 @@ def navigation_runs(params: Params, data_dir: str | Path, artifacts_dir: str | P
 class PhaseAblation:
     """Tables III-V and ``context_following``: navigation by (environment, preference), held-out agreement by
     (model, environment, preference, context draw) with its report rows, margin ranking errors by model then
-    test set, the phases' training summaries, and the main seed's model names (the agreement figure's)."""
+    test set, the phases' training summaries, the main seed's model names (the agreement figure's) and the summaries
+    of every network trained for the tables."""
 
     results: dict[tuple[str, str], NavigationResult]
     agreement: dict[tuple[str, str, str, str], Agreement]
@@ -136,6 +148,7 @@ class PhaseAblation:
     margin_errors: dict[str, dict[str, np.ndarray]]
     summaries: dict[str, dict]
     models: tuple[str, ...]
+    training: dict[str, list[dict]]  # every trained network's phase summaries by row (``training_summaries``)
 
 
 def phase_ablation_runs(params: Params, data_dir: str | Path, artifacts_dir: str | Path,
@@ -184,7 +197,8 @@ def phase_ablation_runs(params: Params, data_dir: str | Path, artifacts_dir: str
                                                             P.evaluation.margin_points, P.seed, device)
                             for set_name, ds in test_sets.items()}
                      for name, model in models.items()}
-    return PhaseAblation(results, agreement, agreement_rows, margin_errors, summaries, tuple(models))
+    return PhaseAblation(results, agreement, agreement_rows, margin_errors, summaries, tuple(models),
+                         training_summaries(P, artifacts_dir))
 
 
 # Figs. 1/4 on the first seen map under the realistic and the inverted context, Fig. 5 on the first unseen map

@@ -180,6 +180,18 @@ def _training_cost(summaries: Mapping[str, dict]) -> str:
             f"{max(s['peak_rss_mib'] for s in timed)} MiB. ")
 
 
+def _all_training_cost(training: Mapping[str, Sequence[Mapping]]) -> str:
+    """One sentence (issue 61's budget): the training wall time of every network trained for the tables, by row, and
+    the peak memory of any of them; empty where a folder's cost was not recorded on this machine (a checkout)."""
+    if not training or any(s.get("train_seconds") is None for phases in training.values() for s in phases):
+        return ""
+    minutes = {row: sum(s["train_seconds"] for s in phases) / 60 for row, phases in training.items()}
+    peak = max(s["peak_rss_mib"] for phases in training.values() for s in phases)
+    return (f"Training of every network of these tables: {', '.join(f'{row} {m:.1f}' for row, m in minutes.items())} "
+            f"min, {sum(minutes.values()):.1f} min in all, peak resident memory {peak} MiB (the baselines' training "
+            "and the notebooks' evaluation are not included; benchmarks/README.md has every PACER stage's wall time). ")
+
+
 def _phase3_training(summary: Mapping[str, object]) -> str:
     """One sentence: how much training the phase-3 model had (its ``summary.json``): optimiser steps, whether
     early stopping ended it, and its best validation loss beside the entropy floor."""
@@ -265,12 +277,14 @@ def margin_rows(errors: Mapping[str, Mapping[str, np.ndarray]], seed: int) -> li
 
 def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement: Mapping[tuple, Agreement],
                  agreement_rows: Sequence[dict], margin_errors: Mapping[str, Mapping[str, np.ndarray]],
-                 summaries: Mapping[str, dict], pacer: PacerParams, profile: str) -> list[Table]:
+                 summaries: Mapping[str, dict], pacer: PacerParams, profile: str,
+                 training: Mapping[str, Sequence[Mapping]] | None = None) -> list[Table]:
     """Tables III (seen) and IV (unseen): each training phase's tier shares under both preferences; Table V:
     margin ranking error on each training set's test split; ``context_following``: held-out agreement and
     the map-window metrics. ``results`` by (environment, preference), ``agreement`` by (model, environment,
     preference, context draw), ``margin_errors`` by model then test set (per item, ``experiments.margin_ranking_errors``),
-    ``summaries`` by model in phase order (each phase's ``summary.json``)."""
+    ``summaries`` by model in phase order (each phase's ``summary.json``), ``training`` every trained network's
+    phase summaries by row (``runs.training_summaries``: their training cost goes in the notes)."""
     setup = protocol_note(pacer.data, pacer.evaluation, profile)
 
     def gaps(env: str) -> list[Claim]:
@@ -307,4 +321,4 @@ def phase_tables(results: Mapping[tuple[str, str], NavigationResult], agreement:
                   PAPER["table5_margin_ranking"], notes5, margin_ranking_claims(margin_errors)),
             Table("context_following", "ours (issues 14, 24): held-out preference agreement and map-window metrics",
                   [*AGREEMENT_COLUMNS, *RECOGNITION_COLUMNS], list(agreement_rows), PAPER["context_following"],
-                  _context_following_notes(pacer, summaries), following)]
+                  _context_following_notes(pacer, summaries) + _all_training_cost(training or {}), following)]
