@@ -93,8 +93,10 @@ def _seeds_note(pacer: PacerParams, models: Sequence[str], spread: str) -> str:
             "fusion, Eq. 3 alone, no texture matcher) at this profile's widths, after the same three phases on the "
             "same data, budget and selection (one seed, stage `pacer_paper_architecture`). "
             f"'{SCRATCH_MATCHER_ROW}': the main recipe with the texture matcher's towers learnt from the seen "
-            "photographs alone instead of EfficientNet-Lite0's frozen ImageNet features (the design before issue 61; "
-            "one seed, stage `pacer_scratch_matcher`), so it measures what the pretrained features buy. ")
+            "photographs alone instead of EfficientNet-Lite0's frozen ImageNet features (the colour and grey towers "
+            "of the design before issue 61, pooled to the ImageNet features' stride 4, so the matcher compares "
+            "features on the main model's grid; one seed, stage `pacer_scratch_matcher`), so it measures what the "
+            "pretrained features buy. ")
 
 
 def _gap(shares: Mapping[str, np.ndarray | None], model: str, *keys: str, diagnosis: str = "") -> Claim:
